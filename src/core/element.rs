@@ -1,0 +1,338 @@
+//! The 4-node woven-cell membrane element (paper eqs 18–47).
+//!
+//! Bilinear interpolation (eq 18), three displacement dofs a node. The element is made of woven
+//! cells whose warp and weft run along the unit yarn vectors `hα0` of the initial configuration.
+//! Writing `hα0 = aα^β gβ0` with the contravariant components `aα^β = hα0 · g^β0` (eq 21), the
+//! derivative along yarn α is `dα = aα^β ∂/∂ξβ`, and the current image of the unit yarn vector is
+//!
+//! ```text
+//!   fα = Σk dαN^k x^k,       Eαα = ½(|fα|² − 1),       1 + εα = |fα|
+//! ```
+//!
+//! (the Green–Lagrange strain along the yarn, Appendix A, and the exact stretch of `law.md`). When
+//! the element's natural directions are the yarns, `aα^β = δα^β/|gα0|` and `Eαα = Ēαα/|gα0|²`: the
+//! paper's element. With `S̃α = L0α Tαα/(1+εα)` (the resultant paired with `δEαα`) and `n` cells at a
+//! Gauss point:
+//!
+//! ```text
+//!   internal force (eq 35)       F  = n Σα S̃α Bα,                 Bα[k,m] = dαN^k fα[m]
+//!   geometric stiffness (eq 41)  Kσ = n Σα S̃α dαN^k dαN^q δmn
+//!   material stiffness (eq 47)   K  = n Σαβ Dαβ Bα Bβᵀ,           Dαβ = ∂S̃α/∂Eββ
+//! ```
+//!
+//! The number of cells of the element is its initial area over the cell area `L01 L02 sin φ0`
+//! (fractional allowed), shared among the 2×2 Gauss points by their weights.
+
+use super::law::{CellLaw, CrimpState};
+
+/// Gauss points of the element (2×2).
+pub const GAUSS: usize = 4;
+const G: f64 = 0.577_350_269_189_625_8; // 1/sqrt(3)
+const GAUSS_XI: [[f64; 2]; GAUSS] = [[-G, -G], [G, -G], [G, G], [-G, G]];
+
+/// `∂N^k/∂ξβ` at `ξ` (eq 18), `[k][β]`.
+pub fn shape_derivatives(xi: [f64; 2]) -> [[f64; 2]; 4] {
+    let (a, b) = (xi[0], xi[1]);
+    [
+        [-0.25 * (1.0 - b), -0.25 * (1.0 - a)],
+        [0.25 * (1.0 - b), -0.25 * (1.0 + a)],
+        [0.25 * (1.0 + b), 0.25 * (1.0 + a)],
+        [-0.25 * (1.0 + b), 0.25 * (1.0 - a)],
+    ]
+}
+
+/// What the element needs from its initial configuration, computed once.
+#[derive(Clone, Copy, Debug)]
+pub struct ElementGeometry {
+    /// `dαN^k` at each Gauss point: `[gp][α][k]`, 1/mm.
+    pub d: [[[f64; 4]; 2]; GAUSS],
+    /// Woven cells represented by each Gauss point.
+    pub cells: [f64; GAUSS],
+    /// `dαN^k` at the centre, for the shear angle.
+    pub d_centre: [[f64; 4]; 2],
+    /// Initial angle between warp and weft, rad.
+    pub yarn_angle0: f64,
+    /// Initial area, mm².
+    pub area0: f64,
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Why an element cannot be built.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GeometryError {
+    /// The element is degenerate or inverted at a Gauss point.
+    Degenerate,
+    /// A yarn direction is (nearly) normal to the element.
+    YarnOutOfPlane,
+}
+
+/// Covariant vectors `g1, g2` at `ξ` from nodal positions.
+fn covariant(x: &[[f64; 3]; 4], dn: &[[f64; 2]; 4]) -> [[f64; 3]; 2] {
+    let mut g = [[0.0; 3]; 2];
+    for k in 0..4 {
+        for beta in 0..2 {
+            for m in 0..3 {
+                g[beta][m] += dn[k][beta] * x[k][m];
+            }
+        }
+    }
+    g
+}
+
+impl ElementGeometry {
+    /// Builds the element from its initial nodes (counter-clockwise) and the yarn directions
+    /// (unit vectors, projected on the element's tangent plane), for cells of area `cell_area`.
+    pub fn new(
+        x0: &[[f64; 3]; 4],
+        yarns: [[f64; 3]; 2],
+        cell_area: f64,
+    ) -> Result<Self, GeometryError> {
+        let directional =
+            |xi: [f64; 2]| -> Result<([[f64; 4]; 2], f64, [[f64; 3]; 2]), GeometryError> {
+                let dn = shape_derivatives(xi);
+                let g = covariant(x0, &dn);
+                let normal = cross(g[0], g[1]);
+                let det_j = norm(normal);
+                let scale = norm(g[0]) * norm(g[1]);
+                if !(det_j > 1e-12 * scale) || !det_j.is_finite() {
+                    return Err(GeometryError::Degenerate);
+                }
+                let nn = [normal[0] / det_j, normal[1] / det_j, normal[2] / det_j];
+                // Metric and its inverse.
+                let m = [
+                    [dot(g[0], g[0]), dot(g[0], g[1])],
+                    [dot(g[1], g[0]), dot(g[1], g[1])],
+                ];
+                let det_m = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+                let inv = [
+                    [m[1][1] / det_m, -m[0][1] / det_m],
+                    [-m[1][0] / det_m, m[0][0] / det_m],
+                ];
+                let mut d = [[0.0; 4]; 2];
+                let mut h_in_plane = [[0.0; 3]; 2];
+                for alpha in 0..2 {
+                    // Project the yarn on the tangent plane and normalise.
+                    let h = yarns[alpha];
+                    let hn = dot(h, nn);
+                    let mut hp = [h[0] - hn * nn[0], h[1] - hn * nn[1], h[2] - hn * nn[2]];
+                    let len = norm(hp);
+                    if len < 1e-6 {
+                        return Err(GeometryError::YarnOutOfPlane);
+                    }
+                    hp = [hp[0] / len, hp[1] / len, hp[2] / len];
+                    h_in_plane[alpha] = hp;
+                    let gh = [dot(g[0], hp), dot(g[1], hp)];
+                    let a = [
+                        inv[0][0] * gh[0] + inv[0][1] * gh[1],
+                        inv[1][0] * gh[0] + inv[1][1] * gh[1],
+                    ];
+                    for k in 0..4 {
+                        d[alpha][k] = a[0] * dn[k][0] + a[1] * dn[k][1];
+                    }
+                }
+                Ok((d, det_j, h_in_plane))
+            };
+        let mut d = [[[0.0; 4]; 2]; GAUSS];
+        let mut cells = [0.0; GAUSS];
+        let mut area0 = 0.0;
+        for (gp, xi) in GAUSS_XI.iter().enumerate() {
+            let (dg, det_j, _) = directional(*xi)?;
+            d[gp] = dg;
+            // Gauss weights are 1 for the 2×2 rule on [−1, 1]².
+            area0 += det_j;
+            cells[gp] = det_j / cell_area;
+        }
+        let (d_centre, _, h) = directional([0.0, 0.0])?;
+        let yarn_angle0 = dot(h[0], h[1]).clamp(-1.0, 1.0).acos();
+        Ok(ElementGeometry {
+            d,
+            cells,
+            d_centre,
+            yarn_angle0,
+            area0,
+        })
+    }
+
+    /// Number of woven cells in the element.
+    pub fn cell_count(&self) -> f64 {
+        self.cells.iter().sum()
+    }
+}
+
+/// `fα = Σk dαN^k x^k` for both yarns.
+#[inline]
+fn yarn_images(d: &[[f64; 4]; 2], x: &[[f64; 3]; 4]) -> [[f64; 3]; 2] {
+    let mut f = [[0.0; 3]; 2];
+    for alpha in 0..2 {
+        for k in 0..4 {
+            let c = d[alpha][k];
+            f[alpha][0] += c * x[k][0];
+            f[alpha][1] += c * x[k][1];
+            f[alpha][2] += c * x[k][2];
+        }
+    }
+    f
+}
+
+/// Yarn strains `εα = |fα| − 1` at a Gauss point.
+pub fn yarn_strains(d: &[[f64; 4]; 2], x: &[[f64; 3]; 4]) -> [f64; 2] {
+    let f = yarn_images(d, x);
+    [norm(f[0]) - 1.0, norm(f[1]) - 1.0]
+}
+
+/// The shear angle at the element centre: the change of the warp–weft angle, degrees
+/// (positive when the angle closes).
+pub fn shear_angle_deg(geo: &ElementGeometry, x: &[[f64; 3]; 4]) -> f64 {
+    let f = yarn_images(&geo.d_centre, x);
+    let (n0, n1) = (norm(f[0]), norm(f[1]));
+    if n0 <= 0.0 || n1 <= 0.0 {
+        return 0.0;
+    }
+    let angle = (dot(f[0], f[1]) / (n0 * n1)).clamp(-1.0, 1.0).acos();
+    (geo.yarn_angle0 - angle).to_degrees()
+}
+
+/// The element's contribution at a configuration.
+#[derive(Clone, Debug)]
+pub struct ElementOutput {
+    /// Internal force, N, `[3k + m]`.
+    pub f: [f64; 12],
+    /// Tangent `K + Kσ`, N/mm (full, symmetric).
+    pub k: [[f64; 12]; 12],
+    /// Stored energy, N·mm.
+    pub energy: f64,
+    /// Tensions `[gp][α]`, N per yarn.
+    pub tension: [[f64; 2]; GAUSS],
+    /// Law Newton iterations summed over the Gauss points.
+    pub law_iterations: u32,
+}
+
+impl Default for ElementOutput {
+    fn default() -> Self {
+        ElementOutput {
+            f: [0.0; 12],
+            k: [[0.0; 12]; 12],
+            energy: 0.0,
+            tension: [[0.0; 2]; GAUSS],
+            law_iterations: 0,
+        }
+    }
+}
+
+/// Internal force, tangent (if `tangent`) and energy at the current nodal positions `x`;
+/// `crimp` (one state per Gauss point) is the warm start and receives the solved state.
+pub fn evaluate(
+    geo: &ElementGeometry,
+    law: &CellLaw,
+    x: &[[f64; 3]; 4],
+    crimp: &mut [CrimpState; GAUSS],
+    tangent: bool,
+    out: &mut ElementOutput,
+) {
+    out.f = [0.0; 12];
+    if tangent {
+        out.k = [[0.0; 12]; 12];
+    }
+    out.energy = 0.0;
+    out.law_iterations = 0;
+    let l0 = law.p.l0;
+    for gp in 0..GAUSS {
+        let d = &geo.d[gp];
+        let n = geo.cells[gp];
+        let f = yarn_images(d, x);
+        let stretch = [norm(f[0]), norm(f[1])];
+        let eps = [stretch[0] - 1.0, stretch[1] - 1.0];
+        let r = law.evaluate(eps, crimp[gp]);
+        crimp[gp] = r.crimp;
+        out.tension[gp] = r.t;
+        out.law_iterations += r.iterations;
+        if r.t[0] != 0.0 || r.t[1] != 0.0 {
+            out.energy += n * law.energy(eps, r.crimp);
+        }
+        // S̃α = L0α Tαα / (1 + εα): the resultant paired with δEαα, times the cell count.
+        let mut s = [0.0; 2];
+        for alpha in 0..2 {
+            if stretch[alpha] > 0.0 {
+                s[alpha] = n * l0[alpha] * r.t[alpha] / stretch[alpha];
+            }
+        }
+        // Bα[3k+m] = dαN^k fα[m].
+        let mut b = [[0.0; 12]; 2];
+        for alpha in 0..2 {
+            for k in 0..4 {
+                for m in 0..3 {
+                    b[alpha][3 * k + m] = d[alpha][k] * f[alpha][m];
+                }
+            }
+            for i in 0..12 {
+                out.f[i] += s[alpha] * b[alpha][i];
+            }
+        }
+        if !tangent {
+            continue;
+        }
+        // Dαβ = ∂S̃α/∂Eββ = n L0α [∂Tα/∂εβ / ((1+εα)(1+εβ)) − δαβ Tα/(1+εα)³].
+        let mut dm = [[0.0; 2]; 2];
+        for alpha in 0..2 {
+            for beta in 0..2 {
+                if stretch[alpha] <= 0.0 || stretch[beta] <= 0.0 {
+                    continue;
+                }
+                let mut v = r.dt[alpha][beta] / (stretch[alpha] * stretch[beta]);
+                if alpha == beta {
+                    v -= r.t[alpha] / stretch[alpha].powi(3);
+                }
+                dm[alpha][beta] = n * l0[alpha] * v;
+            }
+        }
+        // Symmetrise the tiny round-off asymmetry of the weighted law tangent.
+        let d12 = 0.5 * (dm[0][1] + dm[1][0]);
+        dm[0][1] = d12;
+        dm[1][0] = d12;
+        for i in 0..12 {
+            let bi = [b[0][i], b[1][i]];
+            if bi[0] == 0.0 && bi[1] == 0.0 {
+                continue;
+            }
+            let c0 = dm[0][0] * bi[0] + dm[1][0] * bi[1];
+            let c1 = dm[0][1] * bi[0] + dm[1][1] * bi[1];
+            for j in i..12 {
+                out.k[i][j] += c0 * b[0][j] + c1 * b[1][j];
+            }
+        }
+        // Geometric stiffness: S̃α dαN^k dαN^q on matching components.
+        for k in 0..4 {
+            for q in k..4 {
+                let g = s[0] * d[0][k] * d[0][q] + s[1] * d[1][k] * d[1][q];
+                if g == 0.0 {
+                    continue;
+                }
+                for m in 0..3 {
+                    out.k[3 * k + m][3 * q + m] += g;
+                }
+            }
+        }
+    }
+    if tangent {
+        for i in 0..12 {
+            for j in 0..i {
+                out.k[i][j] = out.k[j][i];
+            }
+        }
+    }
+}

@@ -1,0 +1,384 @@
+//! The biaxial woven-cell law of the paper (eqs 1–5) and the linear yarn law beside it.
+//!
+//! Units: mm, N. Direction 1 is the warp, 2 the weft.
+//!
+//! The quarter cell: yarn α runs over a half wavelength `L0α/2` and rises to its crown at height
+//! `hα`; initially `hα = e0α`. The crowns move by `wα` with `h1 = e01 − w1`, `h2 = e02 + w2`, so the
+//! *closure* `s = w1 − w2` is how much the yarns flatten each other at the crossing.
+//!
+//! Written with `ℓα = sqrt(4 hα² + Lα²)` (the doubled current yarn length, eq 3), `Lα = L0α (1+εα)`
+//! and `qα = 1/ℓ0α − 1/ℓα`, the yarn's vertical and horizontal force components are
+//!
+//! ```text
+//!   Vα = Tfα cosθα = 2 Cα hα qα        Tαα = Tfα sinθα = Cα Lα qα      (qα > 0, else both 0)
+//! ```
+//!
+//! and the state `(h1, s)` solves vertical equilibrium `V1 = V2` and the transverse compression
+//! law `s = A (1 − exp(−B Fc))`, `Fc = 2 V1` (eqs 2, 5). The cell is conservative: its stored energy
+//! is `Σα ½ Cα ℓ0α (ℓα/ℓ0α − 1)² + Φ(s)`, `Φ' = Fc`, minimised over the crimp state, and
+//! `∂W/∂εα = L0α Tαα`, hence the symmetric weighted tangent `L01 ∂T11/∂ε2 = L02 ∂T22/∂ε1`.
+
+/// The parameters of a woven cell (eqs 6–7 for the paper's glass plain weave).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellParams {
+    /// `L0α`: cell length (wavelength) along each yarn, mm.
+    pub l0: [f64; 2],
+    /// `e0α`: initial crown height of each yarn, mm.
+    pub e0: [f64; 2],
+    /// `Cα`: tensile stiffness of each yarn, N.
+    pub c: [f64; 2],
+    /// `A`: saturation of the closure, mm.
+    pub a: f64,
+    /// `B`: transverse compliance rate, 1/N.
+    pub b: f64,
+    /// Undulation variations on (the woven law) or off (the linear yarn law, `T = C max(ε, 0)`).
+    pub undulation: bool,
+}
+
+impl CellParams {
+    /// The paper's plain-weave glass fabric (eqs 6–7), undulation on.
+    pub const PAPER_GLASS: CellParams = CellParams {
+        l0: [4.76, 4.76],
+        e0: [0.238, 0.238],
+        c: [38000.0, 38000.0],
+        a: 0.075,
+        b: 0.25,
+        undulation: true,
+    };
+
+    /// The initial in-plane area of one cell for yarns at angle `yarn_angle` (rad), mm².
+    pub fn cell_area(&self, yarn_angle: f64) -> f64 {
+        self.l0[0] * self.l0[1] * yarn_angle.sin().abs()
+    }
+}
+
+/// The crimp state of one cell: the warp crown height `h1` (mm) and the closure `s` (mm).
+/// Each cell keeps its own and passes it back in as a warm start.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CrimpState {
+    pub h1: f64,
+    pub s: f64,
+}
+
+/// What the law returns for one strain pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellResponse {
+    /// `Tαα`: tension per yarn, N.
+    pub t: [f64; 2],
+    /// `∂Tαα/∂εββ`: `dt[α][β]`, N.
+    pub dt: [[f64; 2]; 2],
+    /// The crimp state reached.
+    pub crimp: CrimpState,
+    /// Newton iterations the crimp solve took (0 for the linear law or slack yarns).
+    pub iterations: u32,
+}
+
+impl CellResponse {
+    /// Crown displacements `(w1, w2)` in mm, the paper's unknowns.
+    pub fn w(&self, law: &CellLaw) -> [f64; 2] {
+        let h2 = law.h_total - self.crimp.s - self.crimp.h1;
+        [law.p.e0[0] - self.crimp.h1, h2 - law.p.e0[1]]
+    }
+}
+
+/// A ready-to-evaluate law: the parameters and the constants derived from them.
+#[derive(Clone, Copy, Debug)]
+pub struct CellLaw {
+    pub p: CellParams,
+    /// `1/ℓ0α`, the inverse initial doubled yarn length.
+    inv_len0: [f64; 2],
+    /// `e01 + e02`, mm.
+    h_total: f64,
+}
+
+/// One yarn's force components and their partial derivatives at a given `(h, L)`.
+#[derive(Clone, Copy, Debug, Default)]
+struct Yarn {
+    v: f64,
+    t: f64,
+    v_h: f64,
+    v_l: f64,
+    t_h: f64,
+    t_l: f64,
+}
+
+const MAX_NEWTON: u32 = 40;
+
+impl CellLaw {
+    pub fn new(p: CellParams) -> Self {
+        let len0 = |a: usize| (p.l0[a] * p.l0[a] + 4.0 * p.e0[a] * p.e0[a]).sqrt();
+        CellLaw {
+            p,
+            inv_len0: [1.0 / len0(0), 1.0 / len0(1)],
+            h_total: p.e0[0] + p.e0[1],
+        }
+    }
+
+    /// The crimp state before any load.
+    pub fn initial_state(&self) -> CrimpState {
+        CrimpState {
+            h1: self.p.e0[0],
+            s: 0.0,
+        }
+    }
+
+    #[inline]
+    fn yarn(&self, a: usize, h: f64, l: f64) -> Yarn {
+        let len2 = 4.0 * h * h + l * l;
+        let len = len2.sqrt();
+        let q = self.inv_len0[a] - 1.0 / len;
+        if q <= 0.0 {
+            return Yarn::default();
+        }
+        let c = self.p.c[a];
+        let il3 = 1.0 / (len2 * len);
+        Yarn {
+            v: 2.0 * c * h * q,
+            t: c * l * q,
+            v_h: 2.0 * c * (q + 4.0 * h * h * il3),
+            v_l: 2.0 * c * h * l * il3,
+            t_h: 4.0 * c * l * h * il3,
+            t_l: c * (q + l * l * il3),
+        }
+    }
+
+    /// Crown height below which yarn α is slack at horizontal length `l` (−∞ if always taut).
+    fn slack_height(&self, a: usize, l: f64) -> f64 {
+        let len0 = 1.0 / self.inv_len0[a];
+        let d = len0 * len0 - l * l;
+        if d <= 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            0.5 * d.sqrt()
+        }
+    }
+
+    /// Tensions and tangent for the strains `eps` (along warp and weft), warm-started from `state`.
+    pub fn evaluate(&self, eps: [f64; 2], state: CrimpState) -> CellResponse {
+        if !self.p.undulation {
+            return self.evaluate_linear(eps);
+        }
+        let l = [self.p.l0[0] * (1.0 + eps[0]), self.p.l0[1] * (1.0 + eps[1])];
+        let hh = self.h_total;
+        // Both yarns slack somewhere in the admissible range: no tension, the crimp stays put.
+        let h1_slack = self.slack_height(0, l[0]);
+        let h1_min_for_2_slack = hh - self.slack_height(1, l[1]);
+        if h1_min_for_2_slack <= h1_slack {
+            let h1 = self.p.e0[0].clamp(h1_min_for_2_slack.max(0.0), h1_slack.min(hh));
+            return CellResponse {
+                t: [0.0, 0.0],
+                dt: [[0.0; 2]; 2],
+                crimp: CrimpState { h1, s: 0.0 },
+                iterations: 0,
+            };
+        }
+        let (crimp, iterations) = match self.newton(l, state) {
+            Some(r) => r,
+            None => (self.bracketed(l), MAX_NEWTON),
+        };
+        self.respond(l, crimp, iterations)
+    }
+
+    /// The same answer as [`CellLaw::evaluate`] by the slow nested bracketed solve only (no
+    /// Newton, no warm start): a reference to check the fast path against.
+    pub fn evaluate_bracketed(&self, eps: [f64; 2]) -> CellResponse {
+        if !self.p.undulation {
+            return self.evaluate_linear(eps);
+        }
+        let l = [self.p.l0[0] * (1.0 + eps[0]), self.p.l0[1] * (1.0 + eps[1])];
+        if self.slack_height(0, l[0]) >= self.h_total - self.slack_height(1, l[1]) {
+            return self.evaluate(eps, self.initial_state());
+        }
+        let x = self.bracketed(l);
+        self.respond(l, x, 0)
+    }
+
+    /// Residuals `R1 = V1 − V2`, `R2 = s − A(1 − e^{−2B V1})` and their Jacobian at `(h1, s)`.
+    #[inline]
+    fn system(&self, l: [f64; 2], x: CrimpState) -> ([f64; 2], [[f64; 2]; 2], Yarn, Yarn, f64) {
+        let y1 = self.yarn(0, x.h1, l[0]);
+        let y2 = self.yarn(1, self.h_total - x.s - x.h1, l[1]);
+        let (a, b) = (self.p.a, self.p.b);
+        let e = (-2.0 * b * y1.v).exp();
+        let r = [y1.v - y2.v, x.s - a * (1.0 - e)];
+        let j = [[y1.v_h + y2.v_h, y2.v_h], [-2.0 * a * b * e * y1.v_h, 1.0]];
+        (r, j, y1, y2, e)
+    }
+
+    /// Safeguarded Newton on `(h1, s)` from a warm start; `None` if it does not converge.
+    fn newton(&self, l: [f64; 2], start: CrimpState) -> Option<(CrimpState, u32)> {
+        let hh = self.h_total;
+        let a = self.p.a;
+        let mut x = CrimpState {
+            h1: start.h1.clamp(0.0, hh),
+            s: start.s.clamp(0.0, a),
+        };
+        if x.h1 > hh - x.s {
+            x.h1 = hh - x.s;
+        }
+        let v_scale = 1e-14 * (self.p.c[0] + self.p.c[1]) * hh;
+        for it in 1..=MAX_NEWTON {
+            let (r, j, ..) = self.system(l, x);
+            let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+            if !(det.is_finite() && det > 0.0) {
+                return None;
+            }
+            let dh = -(r[0] * j[1][1] - j[0][1] * r[1]) / det;
+            let ds = -(j[0][0] * r[1] - j[1][0] * r[0]) / det;
+            // Damp the step so the iterate stays in the admissible set s ∈ [0, A), h1, h2 ≥ 0.
+            let mut tau = 1.0f64;
+            for _ in 0..60 {
+                let s = x.s + tau * ds;
+                let h1 = x.h1 + tau * dh;
+                if (0.0..=a).contains(&s) && h1 >= 0.0 && h1 <= hh - s {
+                    break;
+                }
+                tau *= 0.5;
+            }
+            x.h1 += tau * dh;
+            x.s += tau * ds;
+            x.s = x.s.clamp(0.0, a);
+            x.h1 = x.h1.clamp(0.0, hh - x.s);
+            let small_step = dh.abs() <= 1e-13 * hh && ds.abs() <= 1e-13 * a.max(1e-300);
+            if small_step || (r[0].abs() <= v_scale && r[1].abs() <= 1e-15 * a) {
+                return Some((x, it));
+            }
+        }
+        None
+    }
+
+    /// The robust fallback: nested bracketed solves, monotone in `h1` for a given closure, then
+    /// monotone in the closure.
+    fn bracketed(&self, l: [f64; 2]) -> CrimpState {
+        let hh = self.h_total;
+        let h1_of = |s: f64| -> f64 {
+            // V1(h1) − V2(H − s − h1) is nondecreasing in h1 on [0, H − s].
+            let (mut lo, mut hi) = (0.0, hh - s);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                let r = self.yarn(0, mid, l[0]).v - self.yarn(1, hh - s - mid, l[1]).v;
+                if r > 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+                if hi - lo <= 1e-16 * hh {
+                    break;
+                }
+            }
+            0.5 * (lo + hi)
+        };
+        let g = |s: f64| -> f64 {
+            let h1 = h1_of(s);
+            s - self.p.a * (1.0 - (-2.0 * self.p.b * self.yarn(0, h1, l[0]).v).exp())
+        };
+        if g(0.0) >= 0.0 {
+            return CrimpState {
+                h1: h1_of(0.0),
+                s: 0.0,
+            };
+        }
+        let (mut lo, mut hi) = (0.0, self.p.a);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if g(mid) > 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+            if hi - lo <= 1e-16 * self.p.a {
+                break;
+            }
+        }
+        let s = 0.5 * (lo + hi);
+        CrimpState { h1: h1_of(s), s }
+    }
+
+    /// Tensions and the implicit-differentiation tangent at a solved crimp state.
+    fn respond(&self, l: [f64; 2], x: CrimpState, iterations: u32) -> CellResponse {
+        let (_, j, y1, y2, e) = self.system(l, x);
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        // ∂R/∂L columns: R1 = V1(L1) − V2(L2), R2 = s − A(1 − e^{−2B V1(L1)}).
+        let drdl = [
+            [y1.v_l, -y2.v_l],
+            [-2.0 * self.p.a * self.p.b * e * y1.v_l, 0.0],
+        ];
+        let mut dt = [[0.0; 2]; 2];
+        for beta in 0..2 {
+            let (r1, r2) = (-drdl[0][beta], -drdl[1][beta]);
+            let (dh, ds) = if det > 0.0 {
+                (
+                    (r1 * j[1][1] - j[0][1] * r2) / det,
+                    (j[0][0] * r2 - j[1][0] * r1) / det,
+                )
+            } else {
+                (0.0, 0.0)
+            };
+            let d1 = if beta == 0 { y1.t_l } else { 0.0 } + y1.t_h * dh;
+            let d2 = if beta == 1 { y2.t_l } else { 0.0 } - y2.t_h * (dh + ds);
+            dt[0][beta] = d1 * self.p.l0[beta];
+            dt[1][beta] = d2 * self.p.l0[beta];
+        }
+        CellResponse {
+            t: [y1.t, y2.t],
+            dt,
+            crimp: x,
+            iterations,
+        }
+    }
+
+    /// The linear yarn law, `Tαα = Cα max(εα, 0)` (undulation off).
+    fn evaluate_linear(&self, eps: [f64; 2]) -> CellResponse {
+        let mut r = CellResponse {
+            t: [0.0; 2],
+            dt: [[0.0; 2]; 2],
+            crimp: self.initial_state(),
+            iterations: 0,
+        };
+        for a in 0..2 {
+            if eps[a] > 0.0 {
+                r.t[a] = self.p.c[a] * eps[a];
+                r.dt[a][a] = self.p.c[a];
+            }
+        }
+        r
+    }
+
+    /// Stored energy of one cell at a solved state (N·mm); `∂W/∂εα = L0α Tαα`.
+    pub fn energy(&self, eps: [f64; 2], state: CrimpState) -> f64 {
+        if !self.p.undulation {
+            return (0..2)
+                .map(|a| 0.5 * self.p.c[a] * self.p.l0[a] * eps[a].max(0.0).powi(2))
+                .sum();
+        }
+        let l = [self.p.l0[0] * (1.0 + eps[0]), self.p.l0[1] * (1.0 + eps[1])];
+        let h = [state.h1, self.h_total - state.s - state.h1];
+        let mut w = 0.0;
+        for a in 0..2 {
+            let len = (4.0 * h[a] * h[a] + l[a] * l[a]).sqrt();
+            let strain = (len * self.inv_len0[a] - 1.0).max(0.0);
+            w += 0.5 * self.p.c[a] / self.inv_len0[a] * strain * strain;
+        }
+        // Φ(s) = ∫0^s −ln(1 − t/A)/B dt.
+        let (a, b, s) = (self.p.a, self.p.b, state.s);
+        if s >= a {
+            w += a / b; // the limit of (A − s) ln(1 − s/A) is 0
+        } else if s > 0.0 {
+            w += ((a - s) * (1.0 - s / a).ln() + s) / b;
+        }
+        w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zero_strain_gives_zero_tension_and_closure() {
+        let law = CellLaw::new(CellParams::PAPER_GLASS);
+        let r = law.evaluate([0.0, 0.0], law.initial_state());
+        assert_eq!(r.t, [0.0, 0.0]);
+        assert_eq!(r.crimp.s, 0.0);
+    }
+}

@@ -1,0 +1,10 @@
+//! The solver and the biaxial law: pure numerics, no files, no terminal, no serde.
+//!
+//! Data flows one way: a [`mesh::Mesh`] and a [`law::CellLaw`] make a [`solver::Model`]; a
+//! [`solver::Solver`] drives it along the load path with prescribed displacements and nodal terms
+//! (contact, pressure); the model then gives shear angles, tensions and forces.
+pub mod element;
+pub mod law;
+pub mod linear;
+pub mod mesh;
+pub mod solver;
