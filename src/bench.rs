@@ -19,7 +19,11 @@ pub struct Rate {
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     let n = v.len();
-    if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) }
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
 }
 
 fn measure(name: &'static str, repetitions: usize, mut run: impl FnMut() -> usize) -> Rate {
@@ -31,7 +35,11 @@ fn measure(name: &'static str, repetitions: usize, mut run: impl FnMut() -> usiz
             n as f64 / t.elapsed().as_secs_f64()
         })
         .collect();
-    Rate { name, per_second: median(samples.clone()), samples }
+    Rate {
+        name,
+        per_second: median(samples.clone()),
+        samples,
+    }
 }
 
 /// Law evaluations (tensions + tangent) per second, each cell warm-started from its previous
@@ -40,29 +48,38 @@ pub fn law_rate(repetitions: usize) -> Rate {
     let law = CellLaw::new(CellParams::PAPER_GLASS);
     let cells = 1000;
     let steps = 200;
-    measure("law evaluations (with tangent, warm-started)", repetitions, || {
-        let mut states = vec![law.initial_state(); cells];
-        for step in 0..steps {
-            for (i, s) in states.iter_mut().enumerate() {
-                let k = 1.0 + (i % 7) as f64;
-                let e1 = 2e-5 * step as f64 * (1.0 + 0.001 * i as f64);
-                let r = law.evaluate(black_box([e1, e1 / k]), *s);
-                *s = r.crimp;
-                black_box(r.dt);
+    measure(
+        "law evaluations (with tangent, warm-started)",
+        repetitions,
+        || {
+            let mut states = vec![law.initial_state(); cells];
+            for step in 0..steps {
+                for (i, s) in states.iter_mut().enumerate() {
+                    let k = 1.0 + (i % 7) as f64;
+                    let e1 = 2e-5 * step as f64 * (1.0 + 0.001 * i as f64);
+                    let r = law.evaluate(black_box([e1, e1 / k]), *s);
+                    *s = r.crimp;
+                    black_box(r.dt);
+                }
             }
-        }
-        cells * steps
-    })
+            cells * steps
+        },
+    )
 }
 
 /// Element internal force + tangent evaluations per second (2×2 Gauss points, woven law).
 pub fn element_rate(repetitions: usize) -> Rate {
     let law = CellLaw::new(CellParams::PAPER_GLASS);
-    let x0 = [[0.0, 0.0, 0.0], [5.0, 0.0, 0.0], [5.2, 4.9, 0.0], [0.1, 5.0, 0.0]];
+    let x0 = [
+        [0.0, 0.0, 0.0],
+        [5.0, 0.0, 0.0],
+        [5.2, 4.9, 0.0],
+        [0.1, 5.0, 0.0],
+    ];
     let geo = ElementGeometry::new(
         &x0,
-        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
-        law.p.cell_area(std::f64::consts::FRAC_PI_2),
+        Some([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+        law.p.l0[0] * law.p.l0[1],
     )
     .expect("valid element");
     let n = 20_000;

@@ -1,3 +1,4 @@
+#![allow(clippy::needless_range_loop)]
 //! The woven-cell law against answers that do not come from its Newton solve: the reference
 //! values of `law.md`, the paper's equations (1)–(5) written out here in the paper's own variables,
 //! finite differences of the stored energy and of the tensions, and the nested bracketed solve.

@@ -1,3 +1,4 @@
+#![allow(clippy::needless_range_loop)]
 //! The Newton solver on states whose answers come from the law alone.
 //!
 //! ```text

@@ -94,76 +94,98 @@ fn covariant(x: &[[f64; 3]; 4], dn: &[[f64; 2]; 4]) -> [[f64; 3]; 2] {
     g
 }
 
+/// The yarn directions at one point of the initial element.
+struct YarnFrame {
+    /// `dαN^k`, 1/mm.
+    d: [[f64; 4]; 2],
+    /// `|g10 × g20|`, mm².
+    det_j: f64,
+    /// Angle between warp and weft, rad.
+    yarn_angle: f64,
+}
+
+impl YarnFrame {
+    fn at(
+        x0: &[[f64; 3]; 4],
+        xi: [f64; 2],
+        yarns: Option<[[f64; 3]; 2]>,
+    ) -> Result<YarnFrame, GeometryError> {
+        let dn = shape_derivatives(xi);
+        let g = covariant(x0, &dn);
+        let normal = cross(g[0], g[1]);
+        let det_j = norm(normal);
+        let scale = norm(g[0]) * norm(g[1]);
+        if det_j.is_nan() || det_j <= 1e-12 * scale || !det_j.is_finite() {
+            return Err(GeometryError::Degenerate);
+        }
+        let nn = [normal[0] / det_j, normal[1] / det_j, normal[2] / det_j];
+        // Metric and its inverse.
+        let m = [
+            [dot(g[0], g[0]), dot(g[0], g[1])],
+            [dot(g[1], g[0]), dot(g[1], g[1])],
+        ];
+        let det_m = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+        let inv = [
+            [m[1][1] / det_m, -m[0][1] / det_m],
+            [-m[1][0] / det_m, m[0][0] / det_m],
+        ];
+        let mut d = [[0.0; 4]; 2];
+        let mut h_in_plane = [[0.0; 3]; 2];
+        for alpha in 0..2 {
+            // The yarn projected on the tangent plane and normalised (or the natural direction).
+            let h = yarns.map_or(g[alpha], |y| y[alpha]);
+            let hn = dot(h, nn);
+            let hp = [h[0] - hn * nn[0], h[1] - hn * nn[1], h[2] - hn * nn[2]];
+            let len = norm(hp);
+            if len < 1e-6 * norm(h) || len == 0.0 {
+                return Err(GeometryError::YarnOutOfPlane);
+            }
+            let hp = [hp[0] / len, hp[1] / len, hp[2] / len];
+            h_in_plane[alpha] = hp;
+            // Contravariant components aα^β = G^βγ (gγ · hα).
+            let gh = [dot(g[0], hp), dot(g[1], hp)];
+            let a = [
+                inv[0][0] * gh[0] + inv[0][1] * gh[1],
+                inv[1][0] * gh[0] + inv[1][1] * gh[1],
+            ];
+            for k in 0..4 {
+                d[alpha][k] = a[0] * dn[k][0] + a[1] * dn[k][1];
+            }
+        }
+        let yarn_angle = dot(h_in_plane[0], h_in_plane[1]).clamp(-1.0, 1.0).acos();
+        Ok(YarnFrame {
+            d,
+            det_j,
+            yarn_angle,
+        })
+    }
+}
+
 impl ElementGeometry {
-    /// Builds the element from its initial nodes (counter-clockwise) and the yarn directions
-    /// (unit vectors, projected on the element's tangent plane), for cells of area `cell_area`.
+    /// Builds the element from its initial nodes (counter-clockwise), the yarn directions (unit
+    /// vectors, projected on the element's tangent plane; `None`: along the element's natural
+    /// directions, the paper's element) and the cell lengths' product `L01 L02` (mm²).
     pub fn new(
         x0: &[[f64; 3]; 4],
-        yarns: [[f64; 3]; 2],
-        cell_area: f64,
+        yarns: Option<[[f64; 3]; 2]>,
+        cell_lengths: f64,
     ) -> Result<Self, GeometryError> {
-        let directional =
-            |xi: [f64; 2]| -> Result<([[f64; 4]; 2], f64, [[f64; 3]; 2]), GeometryError> {
-                let dn = shape_derivatives(xi);
-                let g = covariant(x0, &dn);
-                let normal = cross(g[0], g[1]);
-                let det_j = norm(normal);
-                let scale = norm(g[0]) * norm(g[1]);
-                if !(det_j > 1e-12 * scale) || !det_j.is_finite() {
-                    return Err(GeometryError::Degenerate);
-                }
-                let nn = [normal[0] / det_j, normal[1] / det_j, normal[2] / det_j];
-                // Metric and its inverse.
-                let m = [
-                    [dot(g[0], g[0]), dot(g[0], g[1])],
-                    [dot(g[1], g[0]), dot(g[1], g[1])],
-                ];
-                let det_m = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-                let inv = [
-                    [m[1][1] / det_m, -m[0][1] / det_m],
-                    [-m[1][0] / det_m, m[0][0] / det_m],
-                ];
-                let mut d = [[0.0; 4]; 2];
-                let mut h_in_plane = [[0.0; 3]; 2];
-                for alpha in 0..2 {
-                    // Project the yarn on the tangent plane and normalise.
-                    let h = yarns[alpha];
-                    let hn = dot(h, nn);
-                    let mut hp = [h[0] - hn * nn[0], h[1] - hn * nn[1], h[2] - hn * nn[2]];
-                    let len = norm(hp);
-                    if len < 1e-6 {
-                        return Err(GeometryError::YarnOutOfPlane);
-                    }
-                    hp = [hp[0] / len, hp[1] / len, hp[2] / len];
-                    h_in_plane[alpha] = hp;
-                    let gh = [dot(g[0], hp), dot(g[1], hp)];
-                    let a = [
-                        inv[0][0] * gh[0] + inv[0][1] * gh[1],
-                        inv[1][0] * gh[0] + inv[1][1] * gh[1],
-                    ];
-                    for k in 0..4 {
-                        d[alpha][k] = a[0] * dn[k][0] + a[1] * dn[k][1];
-                    }
-                }
-                Ok((d, det_j, h_in_plane))
-            };
         let mut d = [[[0.0; 4]; 2]; GAUSS];
         let mut cells = [0.0; GAUSS];
         let mut area0 = 0.0;
         for (gp, xi) in GAUSS_XI.iter().enumerate() {
-            let (dg, det_j, _) = directional(*xi)?;
-            d[gp] = dg;
+            let at = YarnFrame::at(x0, *xi, yarns)?;
+            d[gp] = at.d;
             // Gauss weights are 1 for the 2×2 rule on [−1, 1]².
-            area0 += det_j;
-            cells[gp] = det_j / cell_area;
+            area0 += at.det_j;
+            cells[gp] = at.det_j / (cell_lengths * at.yarn_angle.sin().abs());
         }
-        let (d_centre, _, h) = directional([0.0, 0.0])?;
-        let yarn_angle0 = dot(h[0], h[1]).clamp(-1.0, 1.0).acos();
+        let centre = YarnFrame::at(x0, [0.0, 0.0], yarns)?;
         Ok(ElementGeometry {
             d,
             cells,
-            d_centre,
-            yarn_angle0,
+            d_centre: centre.d,
+            yarn_angle0: centre.yarn_angle,
             area0,
         })
     }

@@ -1,12 +1,13 @@
 //! The blank mesh: 4-node elements laid along the yarns.
 
 /// Nodes (initial positions, mm), quadrilaterals (counter-clockwise node indices) and the unit
-/// warp and weft directions of the fabric (uniform over an initially flat blank).
+/// warp and weft directions of the fabric: uniform over an initially flat blank, or `None` for
+/// yarns along each element's natural directions (the paper's element; any initial shape).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
     pub nodes: Vec<[f64; 3]>,
     pub quads: Vec<[usize; 4]>,
-    pub yarns: [[f64; 3]; 2],
+    pub yarns: Option<[[f64; 3]; 2]>,
     /// Grid size `[n1, n2]` (elements along warp and weft) when the mesh is a yarn grid.
     pub grid: Option<[usize; 2]>,
 }
@@ -40,7 +41,7 @@ impl Mesh {
         Mesh {
             nodes,
             quads,
-            yarns: [h1, h2],
+            yarns: Some([h1, h2]),
             grid: Some(n),
         }
     }

@@ -3,8 +3,13 @@
 //! Data flows one way: a [`mesh::Mesh`] and a [`law::CellLaw`] make a [`solver::Model`]; a
 //! [`solver::Solver`] drives it along the load path with prescribed displacements and nodal terms
 //! (contact, pressure); the model then gives shear angles, tensions and forces.
+// Index loops mirror the paper's index notation (α, β, k, m); keep them.
+#![allow(clippy::needless_range_loop)]
+
+pub mod contact;
 pub mod element;
 pub mod law;
 pub mod linear;
 pub mod mesh;
 pub mod solver;
+pub mod tools;

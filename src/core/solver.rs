@@ -219,13 +219,7 @@ impl Model {
     /// Builds the model: element geometry, the dof numbering with `prescribed_dofs` removed, the
     /// sparsity pattern and its symbolic factorization.
     pub fn new(mesh: Mesh, law: CellLaw, prescribed_dofs: &[usize]) -> Result<Model, Failure> {
-        let yarn_angle = {
-            let [a, b] = mesh.yarns;
-            (a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
-                .clamp(-1.0, 1.0)
-                .acos()
-        };
-        let cell_area = law.p.cell_area(yarn_angle);
+        let cell_lengths = law.p.l0[0] * law.p.l0[1];
         let mut geometry = Vec::with_capacity(mesh.quads.len());
         for (e, q) in mesh.quads.iter().enumerate() {
             let x0 = [
@@ -234,7 +228,7 @@ impl Model {
                 mesh.nodes[q[2]],
                 mesh.nodes[q[3]],
             ];
-            let g = ElementGeometry::new(&x0, mesh.yarns, cell_area)
+            let g = ElementGeometry::new(&x0, mesh.yarns, cell_lengths)
                 .map_err(|cause| Failure::BadElement { element: e, cause })?;
             geometry.push(g);
         }

@@ -1,0 +1,328 @@
+//! Node-to-surface contact with the rigid tools, Coulomb friction and the blank holder.
+//!
+//! Normal contact is a penalty on the energy `½ k g²` for a penetration `g = d < 0`: force
+//! `−k g n` on the node and tangent `k (n nᵀ + g ∂n/∂x)` (the curvature term). The penalty of a
+//! node is `k = factor · (C̄/L̄0) · cells(node)`: the stiffness of the cells it carries, so the
+//! penetration stays a small fraction of the element size for the forces the yarns can carry.
+//!
+//! Friction is regularised Coulomb with the normal force `N` and the normal `n` lagged at the
+//! start of each load step: the slip `s = P (x − x_start − Δtool)`, `P = I − n nᵀ`, derives from
+//! the convex potential `μ N (sqrt(|s|² + ε²) − ε)`, so its tangent is symmetric and the
+//! symmetric solver applies. Full sliding carries `μ N`; `ε` is the slip that mobilises it.
+//!
+//! The blank holder presses the part of the blank currently on the flange (outside the die's
+//! entry radius) onto the die face with the pressure `p`: a force `p A w` on a node of area `A`,
+//! `w` going smoothly from 0 to 1 across one band outside the entry radius (lagged per step).
+//! Friction acts on both faces: the die face through the die's normal force (which carries the
+//! holder force) and the holder face with `μ p A w`, so a sliding flange carries `2 μ p` per
+//! unit area.
+
+use super::tools::Tool;
+
+/// One tool's role in the drawing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolMotion {
+    pub tool: Tool,
+    /// Tip height at load 0 and its change at full load (punches; 0 for dies).
+    pub tip_start: f64,
+    pub stroke: f64,
+}
+
+impl ToolMotion {
+    pub fn tip(&self, lambda: f64) -> f64 {
+        self.tip_start - lambda * self.stroke
+    }
+
+    pub fn at(&self, lambda: f64) -> Tool {
+        if self.tool.is_punch() {
+            self.tool.at_tip(self.tip(lambda))
+        } else {
+            self.tool
+        }
+    }
+}
+
+/// The blank holder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Holder {
+    /// Pressure on the flange, MPa (N/mm²).
+    pub pressure: f64,
+    /// The die whose face the holder presses onto (its opening and entry radius define the
+    /// flange).
+    pub die: Tool,
+    /// Width of the band over which the holder's grip fades in, mm.
+    pub band: f64,
+}
+
+impl Holder {
+    /// The fraction of the holder pressure a node at `(x, y)` on the die face receives.
+    pub fn weight(&self, x: f64, y: f64) -> f64 {
+        let Some((d_open, rm)) = self.die.opening_distance(x, y) else {
+            return 0.0;
+        };
+        let t = ((d_open - rm) / self.band).clamp(0.0, 1.0);
+        t * t * (3.0 - 2.0 * t)
+    }
+}
+
+/// Contact settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactOptions {
+    /// Coulomb friction coefficient between fabric and tools.
+    pub friction: f64,
+    /// Slip that mobilises full friction, mm.
+    pub slip_regularisation: f64,
+    /// Penalty factor (dimensionless, times the cells' stiffness).
+    pub penalty_factor: f64,
+}
+
+/// Per node and tool, what is lagged at the start of a step.
+#[derive(Clone, Copy, Debug, Default)]
+struct Lag {
+    normal_force: f64,
+    normal: [f64; 3],
+}
+
+/// The contact terms of a drawing: tools, friction and holder, for every node of the blank.
+pub struct Contact {
+    pub tools: Vec<ToolMotion>,
+    pub holder: Option<Holder>,
+    pub options: ContactOptions,
+    /// Initial tributary area of each node, mm².
+    pub area: Vec<f64>,
+    /// Penalty of each node, N/mm.
+    pub penalty: Vec<f64>,
+    lag: Vec<Lag>,
+    holder_weight: Vec<f64>,
+    x_step_start: Vec<[f64; 3]>,
+    lambda_step_start: f64,
+    /// Nodes within reach of each tool at the step start (the rest are skipped).
+    active: Vec<Vec<u32>>,
+    reach: f64,
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Index of `(i, j)`, `i ≤ j`, in a node block `[xx xy xz yy yz zz]`.
+const BLOCK: [[usize; 3]; 3] = [[0, 1, 2], [1, 3, 4], [2, 4, 5]];
+
+impl Contact {
+    /// `area` and `cells` per node (initial), `stiffness_per_cell` = C̄/L̄0 (N/mm), `reach` (mm):
+    /// nodes farther than this from a tool at a step's start are not tested during the step.
+    pub fn new(
+        tools: Vec<ToolMotion>,
+        holder: Option<Holder>,
+        options: ContactOptions,
+        area: Vec<f64>,
+        cells: &[f64],
+        stiffness_per_cell: f64,
+        reach: f64,
+    ) -> Contact {
+        let n = area.len();
+        let penalty = cells
+            .iter()
+            .map(|c| options.penalty_factor * stiffness_per_cell * c)
+            .collect();
+        let nt = tools.len();
+        Contact {
+            tools,
+            holder,
+            options,
+            area,
+            penalty,
+            lag: vec![Lag::default(); n * nt],
+            holder_weight: vec![0.0; n],
+            x_step_start: vec![[0.0; 3]; n],
+            lambda_step_start: 0.0,
+            active: vec![(0..n as u32).collect(); nt],
+            reach,
+        }
+    }
+
+    /// Signed distances of every node to tool `t` at load `lambda`.
+    pub fn distances(&self, t: usize, lambda: f64, x: &[[f64; 3]]) -> Vec<f64> {
+        let tool = self.tools[t].at(lambda);
+        x.iter().map(|p| tool.distance(*p).d).collect()
+    }
+
+    /// The largest penetration of any node into any tool, mm.
+    pub fn max_penetration(&self, lambda: f64, x: &[[f64; 3]]) -> f64 {
+        (0..self.tools.len())
+            .flat_map(|t| self.distances(t, lambda, x))
+            .fold(0.0f64, |m, d| m.max(-d))
+    }
+
+    /// The force the tool `t` exerts on the fabric at load `lambda` (normal and friction), N.
+    pub fn tool_force(&self, t: usize, lambda: f64, x: &[[f64; 3]]) -> [f64; 3] {
+        let mut r = vec![0.0; 3 * x.len()];
+        for i in 0..x.len() {
+            self.add_node_tool(i, t, lambda, x[i], &mut r, None);
+        }
+        let mut f = [0.0; 3];
+        for i in 0..x.len() {
+            for m in 0..3 {
+                f[m] -= r[3 * i + m];
+            }
+        }
+        f
+    }
+
+    /// Nodes in contact with tool `t` at load `lambda`.
+    pub fn in_contact(&self, t: usize, lambda: f64, x: &[[f64; 3]]) -> Vec<bool> {
+        self.distances(t, lambda, x)
+            .iter()
+            .map(|d| *d < 0.0)
+            .collect()
+    }
+
+    /// The holder force currently on each node (N), lagged at the step start.
+    pub fn holder_force(&self) -> Vec<f64> {
+        match &self.holder {
+            Some(h) => self
+                .holder_weight
+                .iter()
+                .zip(&self.area)
+                .map(|(w, a)| h.pressure * a * w)
+                .collect(),
+            None => vec![0.0; self.area.len()],
+        }
+    }
+
+    /// Adds node `i`'s terms with tool `t`: normal penalty and lagged friction.
+    fn add_node_tool(
+        &self,
+        i: usize,
+        t: usize,
+        lambda: f64,
+        p: [f64; 3],
+        r: &mut [f64],
+        block: Option<&mut [f64; 6]>,
+    ) {
+        let motion = &self.tools[t];
+        let tool = motion.at(lambda);
+        let k = self.penalty[i];
+        let dist = tool.distance(p);
+        let mut local_k = [[0.0; 3]; 3];
+        let want_k = block.is_some();
+        if dist.d < 0.0 {
+            let g = dist.d;
+            for m in 0..3 {
+                r[3 * i + m] += k * g * dist.n[m];
+            }
+            if want_k {
+                let h = tool.curvature(p, self.reach);
+                for a in 0..3 {
+                    for b in 0..3 {
+                        local_k[a][b] += k * (dist.n[a] * dist.n[b] + g * h[a][b]);
+                    }
+                }
+            }
+        }
+        // Friction with the lagged normal force (plus the holder face on the die).
+        let lag = self.lag[t * self.area.len() + i];
+        let mut normal_force = lag.normal_force;
+        if !tool.is_punch()
+            && let Some(h) = &self.holder
+        {
+            normal_force += h.pressure * self.area[i] * self.holder_weight[i];
+        }
+        let mu = self.options.friction;
+        if mu > 0.0 && normal_force > 0.0 {
+            let dz = if motion.tool.is_punch() {
+                motion.tip(lambda) - motion.tip(self.lambda_step_start)
+            } else {
+                0.0
+            };
+            let x0 = self.x_step_start[i];
+            let rel = [p[0] - x0[0], p[1] - x0[1], p[2] - x0[2] - dz];
+            let n = lag.normal;
+            let rn = dot(rel, n);
+            let s = [rel[0] - rn * n[0], rel[1] - rn * n[1], rel[2] - rn * n[2]];
+            let eps = self.options.slip_regularisation;
+            let rho = (dot(s, s) + eps * eps).sqrt();
+            let c = mu * normal_force;
+            for m in 0..3 {
+                r[3 * i + m] += c * s[m] / rho;
+            }
+            if want_k {
+                for a in 0..3 {
+                    for b in 0..3 {
+                        let pab = if a == b { 1.0 } else { 0.0 } - n[a] * n[b];
+                        local_k[a][b] += c * (pab / rho - s[a] * s[b] / rho.powi(3));
+                    }
+                }
+            }
+        }
+        if let Some(blk) = block {
+            for a in 0..3 {
+                for b in a..3 {
+                    blk[BLOCK[a][b]] += local_k[a][b];
+                }
+            }
+        }
+    }
+}
+
+impl super::solver::NodalTerms for Contact {
+    fn begin_step(&mut self, _lambda: f64, x: &[[f64; 3]]) {
+        let n = x.len();
+        let lambda0 = self.lambda_step_start;
+        self.x_step_start.copy_from_slice(x);
+        for t in 0..self.tools.len() {
+            let tool = self.tools[t].at(lambda0);
+            let stroke = self.tools[t].stroke.abs();
+            let mut active = Vec::new();
+            for i in 0..n {
+                let dist = tool.distance(x[i]);
+                self.lag[t * n + i] = Lag {
+                    normal_force: self.penalty[i] * (-dist.d).max(0.0),
+                    normal: dist.n,
+                };
+                // A node farther than the reach plus the tool's travel cannot touch it this step.
+                if dist.d < self.reach + stroke {
+                    active.push(i as u32);
+                }
+            }
+            self.active[t] = active;
+        }
+        if let Some(h) = &self.holder {
+            for i in 0..n {
+                // Only nodes lying on the die face are held.
+                let on_face = x[i][2].abs() < self.reach;
+                self.holder_weight[i] = if on_face {
+                    h.weight(x[i][0], x[i][1])
+                } else {
+                    0.0
+                };
+            }
+        }
+    }
+
+    fn add(
+        &self,
+        lambda: f64,
+        x: &[[f64; 3]],
+        r: &mut [f64],
+        mut blocks: Option<&mut [[f64; 6]]>,
+    ) -> bool {
+        for t in 0..self.tools.len() {
+            for &i in &self.active[t] {
+                let i = i as usize;
+                let blk = blocks.as_deref_mut().map(|b| &mut b[i]);
+                self.add_node_tool(i, t, lambda, x[i], r, blk);
+            }
+        }
+        if let Some(h) = &self.holder {
+            for i in 0..x.len() {
+                r[3 * i + 2] += h.pressure * self.area[i] * self.holder_weight[i];
+            }
+        }
+        true
+    }
+
+    fn end_step(&mut self, lambda: f64, _x: &[[f64; 3]]) {
+        self.lambda_step_start = lambda;
+    }
+}

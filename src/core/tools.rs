@@ -1,0 +1,429 @@
+//! Rigid analytic tools: signed distance, outward normal (its gradient) and curvature (the
+//! Hessian of the distance), smooth (C1) everywhere the fabric can touch.
+//!
+//! Frame: the blank lies initially in the plane z = 0 on the die face; the punch comes from above
+//! and moves down (−z) by the stroke; the die's material is below z = 0 outside its opening.
+//!
+//! ```text
+//!            punch (side a, plan corner radius r, nose radius rp)
+//!          ┌──────────┐
+//!          │          │            ↓ stroke
+//!          ╰──────────╯
+//!   ───────╮  blank   ╭───────  die face z = 0 (holder presses the flange here)
+//!          │          │          opening a + 2·clearance, corner r + clearance, entry radius rm
+//! ```
+
+/// A point's signed distance to a tool surface (negative inside the tool) and its gradient
+/// (the outward unit normal at the nearest surface point).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Distance {
+    pub d: f64,
+    pub n: [f64; 3],
+}
+
+/// Signed distance in the plane, with its gradient.
+#[derive(Clone, Copy, Debug)]
+struct Plan {
+    d: f64,
+    g: [f64; 2],
+}
+
+/// A rounded rectangle centred at the origin: half sides `hx, hy`, corner radius `r`; inside the
+/// inner rectangle the distance is smoothed over a width `k` so its level sets deeper than `r`
+/// have no crease (only used where a nose ball of radius larger than `r` must roll around it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoundedRect {
+    pub hx: f64,
+    pub hy: f64,
+    pub r: f64,
+    pub smoothing: f64,
+}
+
+impl RoundedRect {
+    fn plan(&self, x: f64, y: f64) -> Plan {
+        let (sx, sy) = (sign(x), sign(y));
+        let qx = x.abs() - (self.hx - self.r);
+        let qy = y.abs() - (self.hy - self.r);
+        if qx > 0.0 && qy > 0.0 {
+            let l = (qx * qx + qy * qy).sqrt();
+            return Plan {
+                d: l - self.r,
+                g: [sx * qx / l, sy * qy / l],
+            };
+        }
+        if qx <= 0.0 && qy <= 0.0 && self.smoothing > 0.0 {
+            let (m, gm) = smooth_max(qx, qy, self.smoothing);
+            return Plan {
+                d: m - self.r,
+                g: [sx * gm[0], sy * gm[1]],
+            };
+        }
+        if qx >= qy {
+            Plan {
+                d: qx - self.r,
+                g: [sx, 0.0],
+            }
+        } else {
+            Plan {
+                d: qy - self.r,
+                g: [0.0, sy],
+            }
+        }
+    }
+}
+
+/// An ellipse centred at the origin with semi-axes `ax, ay`, offset outward by `offset`: the
+/// exact signed distance (a 1D Newton solve on the ellipse's parameter).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OffsetEllipse {
+    pub ax: f64,
+    pub ay: f64,
+    pub offset: f64,
+}
+
+impl OffsetEllipse {
+    fn plan(&self, x: f64, y: f64) -> Plan {
+        let (d, g) = ellipse_distance(self.ax, self.ay, x, y);
+        Plan {
+            d: d - self.offset,
+            g,
+        }
+    }
+}
+
+fn sign(v: f64) -> f64 {
+    if v < 0.0 { -1.0 } else { 1.0 }
+}
+
+/// A C1 maximum of `a, b` whose blending width fades to zero as the maximum approaches zero
+/// from below (so it joins the exact distance continuously at the inner rectangle's edge).
+fn smooth_max(a: f64, b: f64, k0: f64) -> (f64, [f64; 2]) {
+    let (m, dm) = if a >= b {
+        (a, [1.0, 0.0])
+    } else {
+        (b, [0.0, 1.0])
+    };
+    let den = m * m + k0 * k0;
+    let k = k0 * m * m / den;
+    let dk_dm = 2.0 * k0.powi(3) * m / (den * den);
+    let delta = (a - b).abs();
+    if k <= 0.0 || delta >= k {
+        return (m, dm);
+    }
+    let sd = if a >= b { [1.0, -1.0] } else { [-1.0, 1.0] };
+    let w = k - delta;
+    let value = m + w * w / (4.0 * k);
+    // ∂/∂a of m + (k − δ)²/(4k) with k = k(m(a, b)).
+    let mut g = [0.0; 2];
+    for i in 0..2 {
+        let ka = dk_dm * dm[i];
+        g[i] = dm[i] + w * (ka - sd[i]) / (2.0 * k) - w * w * ka / (4.0 * k * k);
+    }
+    (value, g)
+}
+
+/// Signed distance from `(x, y)` to the ellipse `x²/a² + y²/b² = 1` and its gradient.
+fn ellipse_distance(a: f64, b: f64, x: f64, y: f64) -> (f64, [f64; 2]) {
+    // Work in the first quadrant; the nearest point (a cos t, b sin t), t ∈ [0, π/2].
+    let (px, py) = (x.abs(), y.abs());
+    let f = |t: f64| -> (f64, f64) {
+        let (s, c) = t.sin_cos();
+        // d/dt of ½|p − e(t)|²: (a² − b²) s c − px a s + py b c; and its derivative.
+        let g = (a * a - b * b) * s * c - px * a * s + py * b * c;
+        let dg = (a * a - b * b) * (c * c - s * s) - px * a * c - py * b * s;
+        (g, dg)
+    };
+    // g(0) = py b ≥ 0, g(π/2) = −px a ≤ 0: a bracketed Newton–bisection.
+    let (mut lo, mut hi) = (0.0, std::f64::consts::FRAC_PI_2);
+    let mut t = (py * a).atan2(px * b).clamp(lo, hi);
+    for _ in 0..100 {
+        let (g, dg) = f(t);
+        if g > 0.0 {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        let mut next = if dg != 0.0 {
+            t - g / dg
+        } else {
+            0.5 * (lo + hi)
+        };
+        if !(next > lo && next < hi) {
+            next = 0.5 * (lo + hi);
+        }
+        if (next - t).abs() <= 1e-15 * (1.0 + t) || hi - lo <= 1e-15 {
+            t = next;
+            break;
+        }
+        t = next;
+    }
+    let (s, c) = t.sin_cos();
+    let (ex, ey) = (a * c, b * s);
+    let (dx, dy) = (px - ex, py - ey);
+    let dist = (dx * dx + dy * dy).sqrt();
+    let inside = (px / a).powi(2) + (py / b).powi(2) < 1.0;
+    // Outward normal of the ellipse at the nearest point.
+    let (nx, ny) = {
+        let (gx, gy) = (ex / (a * a), ey / (b * b));
+        let l = (gx * gx + gy * gy).sqrt();
+        (gx / l, gy / l)
+    };
+    let d = if inside { -dist } else { dist };
+    (d, [sign(x) * nx, sign(y) * ny])
+}
+
+/// The rounded intersection of `{f1 ≤ 0}` and `{f2 ≤ 0}` whose edge is rounded with radius
+/// `rho`: exact when f1, f2 are distances to orthogonal faces.
+fn rounded_intersection(f1: f64, g1: [f64; 3], f2: f64, g2: [f64; 3], rho: f64) -> Distance {
+    let (u, v) = (f1 + rho, f2 + rho);
+    if u > 0.0 && v > 0.0 {
+        let l = (u * u + v * v).sqrt();
+        let n = [
+            (u * g1[0] + v * g2[0]) / l,
+            (u * g1[1] + v * g2[1]) / l,
+            (u * g1[2] + v * g2[2]) / l,
+        ];
+        Distance { d: l - rho, n }
+    } else if u >= v {
+        Distance { d: f1, n: g1 }
+    } else {
+        Distance { d: f2, n: g2 }
+    }
+}
+
+/// The plan shape of a punch or of a die opening.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PlanShape {
+    RoundedRect(RoundedRect),
+    Ellipse(OffsetEllipse),
+}
+
+impl PlanShape {
+    fn plan(&self, x: f64, y: f64) -> Plan {
+        match self {
+            PlanShape::RoundedRect(r) => r.plan(x, y),
+            PlanShape::Ellipse(e) => e.plan(x, y),
+        }
+    }
+}
+
+/// A rigid tool.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tool {
+    /// A flat-nosed punch: plan shape extruded upward from its nose at `z = tip`, the nose edge
+    /// rounded with radius `nose_radius`.
+    FlatPunch {
+        plan: PlanShape,
+        nose_radius: f64,
+        tip: f64,
+    },
+    /// An ellipsoidal punch of semi-axes `[ax, ay, az]`, lowest point at `z = tip`.
+    EllipsoidPunch { axes: [f64; 3], tip: f64 },
+    /// A die: material below `z = 0` outside the opening, the entry edge rounded with
+    /// `entry_radius`.
+    Die {
+        opening: PlanShape,
+        entry_radius: f64,
+    },
+}
+
+impl Tool {
+    /// A square (or rectangular) punch of sides `[ax, ay]`, plan corner radius `r`, nose radius
+    /// `rp`, tip at `z = tip`.
+    pub fn box_punch(side: [f64; 2], r: f64, rp: f64, tip: f64) -> Tool {
+        Tool::FlatPunch {
+            plan: PlanShape::RoundedRect(RoundedRect {
+                hx: 0.5 * side[0],
+                hy: 0.5 * side[1],
+                r,
+                smoothing: 2.0 * (rp - r).max(0.0),
+            }),
+            nose_radius: rp,
+            tip,
+        }
+    }
+
+    /// The die of a box punch: opening `side + 2·clearance`, corner radius `r + clearance`,
+    /// entry radius `rm`.
+    pub fn box_die(side: [f64; 2], r: f64, clearance: f64, rm: f64) -> Tool {
+        Tool::Die {
+            opening: PlanShape::RoundedRect(RoundedRect {
+                hx: 0.5 * side[0] + clearance,
+                hy: 0.5 * side[1] + clearance,
+                r: r + clearance,
+                smoothing: 0.0,
+            }),
+            entry_radius: rm,
+        }
+    }
+
+    /// A die with an elliptical opening: the ellipse of semi-axes `[ax, ay]` offset by the
+    /// clearance (a circle when `ax = ay`).
+    pub fn elliptic_die(axes: [f64; 2], clearance: f64, rm: f64) -> Tool {
+        Tool::Die {
+            opening: PlanShape::Ellipse(OffsetEllipse {
+                ax: axes[0],
+                ay: axes[1],
+                offset: clearance,
+            }),
+            entry_radius: rm,
+        }
+    }
+
+    /// The same tool moved to its position at a punch tip height (dies do not move).
+    pub fn at_tip(&self, z: f64) -> Tool {
+        match *self {
+            Tool::FlatPunch {
+                plan, nose_radius, ..
+            } => Tool::FlatPunch {
+                plan,
+                nose_radius,
+                tip: z,
+            },
+            Tool::EllipsoidPunch { axes, .. } => Tool::EllipsoidPunch { axes, tip: z },
+            die => die,
+        }
+    }
+
+    /// For a die: the signed plan distance of `(x, y)` to its opening (positive outside, on the
+    /// face) and its entry radius.
+    pub fn opening_distance(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        match self {
+            Tool::Die {
+                opening,
+                entry_radius,
+            } => Some((opening.plan(x, y).d, *entry_radius)),
+            _ => None,
+        }
+    }
+
+    pub fn is_punch(&self) -> bool {
+        !matches!(self, Tool::Die { .. })
+    }
+
+    /// Signed distance and outward normal at `p`.
+    pub fn distance(&self, p: [f64; 3]) -> Distance {
+        match *self {
+            Tool::FlatPunch {
+                plan,
+                nose_radius,
+                tip,
+            } => {
+                let pl = plan.plan(p[0], p[1]);
+                // Region {plan ≤ 0} ∩ {z ≥ tip}: f2 = tip − z.
+                rounded_intersection(
+                    pl.d,
+                    [pl.g[0], pl.g[1], 0.0],
+                    tip - p[2],
+                    [0.0, 0.0, -1.0],
+                    nose_radius,
+                )
+            }
+            Tool::Die {
+                opening,
+                entry_radius,
+            } => {
+                let pl = opening.plan(p[0], p[1]);
+                // Region {outside the opening} ∩ {z ≤ 0}.
+                rounded_intersection(
+                    -pl.d,
+                    [-pl.g[0], -pl.g[1], 0.0],
+                    p[2],
+                    [0.0, 0.0, 1.0],
+                    entry_radius,
+                )
+            }
+            Tool::EllipsoidPunch { axes, tip } => {
+                let c = [0.0, 0.0, tip + axes[2]];
+                ellipsoid_distance(axes, [p[0] - c[0], p[1] - c[1], p[2] - c[2]])
+            }
+        }
+    }
+
+    /// The Hessian of the signed distance (the curvature of the surface, `∂n/∂x`) at `p`, by
+    /// central differences of the analytic normal.
+    pub fn curvature(&self, p: [f64; 3], scale: f64) -> [[f64; 3]; 3] {
+        let h = 1e-5 * scale.max(1e-3);
+        let mut hess = [[0.0; 3]; 3];
+        for j in 0..3 {
+            let mut pp = p;
+            let mut pm = p;
+            pp[j] += h;
+            pm[j] -= h;
+            let (np, nm) = (self.distance(pp).n, self.distance(pm).n);
+            for i in 0..3 {
+                hess[i][j] = (np[i] - nm[i]) / (2.0 * h);
+            }
+        }
+        for i in 0..3 {
+            for j in 0..i {
+                let s = 0.5 * (hess[i][j] + hess[j][i]);
+                hess[i][j] = s;
+                hess[j][i] = s;
+            }
+        }
+        hess
+    }
+}
+
+/// Signed distance to an ellipsoid centred at the origin (semi-axes `a`), with the outward
+/// normal: the nearest point solves a 1D equation in the Lagrange multiplier (Eberly).
+fn ellipsoid_distance(a: [f64; 3], p: [f64; 3]) -> Distance {
+    let q = [p[0].abs(), p[1].abs(), p[2].abs()];
+    let inside = (q[0] / a[0]).powi(2) + (q[1] / a[1]).powi(2) + (q[2] / a[2]).powi(2) < 1.0;
+    // Nearest point x_i = a_i² q_i / (a_i² + t), with F(t) = Σ (a_i q_i/(a_i² + t))² − 1 = 0,
+    // t ∈ (−min a_i², ∞); F is decreasing there.
+    let amin2 = a.iter().fold(f64::INFINITY, |m, v| m.min(v * v));
+    let fval = |t: f64| -> f64 {
+        (0..3)
+            .map(|i| (a[i] * q[i] / (a[i] * a[i] + t)).powi(2))
+            .sum::<f64>()
+            - 1.0
+    };
+    let (mut lo, mut hi);
+    if inside {
+        lo = -amin2;
+        hi = 0.0;
+    } else {
+        lo = 0.0;
+        hi = 1.0;
+        while fval(hi) > 0.0 {
+            hi *= 2.0;
+            if hi > 1e30 {
+                break;
+            }
+        }
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if fval(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= 1e-15 * (1.0 + hi.abs()) {
+            break;
+        }
+    }
+    let t = 0.5 * (lo + hi);
+    let x: Vec<f64> = (0..3)
+        .map(|i| a[i] * a[i] * q[i] / (a[i] * a[i] + t))
+        .collect();
+    let diff = [q[0] - x[0], q[1] - x[1], q[2] - x[2]];
+    let dist = (diff[0] * diff[0] + diff[1] * diff[1] + diff[2] * diff[2]).sqrt();
+    let grad = [
+        x[0] / (a[0] * a[0]),
+        x[1] / (a[1] * a[1]),
+        x[2] / (a[2] * a[2]),
+    ];
+    let gl = (grad[0] * grad[0] + grad[1] * grad[1] + grad[2] * grad[2]).sqrt();
+    let n = [
+        sign(p[0]) * grad[0] / gl,
+        sign(p[1]) * grad[1] / gl,
+        sign(p[2]) * grad[2] / gl,
+    ];
+    Distance {
+        d: if inside { -dist } else { dist },
+        n,
+    }
+}

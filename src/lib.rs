@@ -1,0 +1,7 @@
+//! wovenform: finite-element simulation of woven-fabric deep drawing (the seed paper's method)
+//! and a design-space explorer around it.
+pub mod bench;
+pub mod core;
+pub mod fit;
+pub mod report;
+pub mod scene;

@@ -1,0 +1,311 @@
+//! The command line: one thin function per subcommand.
+//!
+//! Exit codes: 0 success, 1 a failed run, 2 bad input (the message on stderr names the file or
+//! option, the key and what was expected). Clap's own usage errors also exit with 2.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use serde::Serialize;
+
+use wovenform::core::law::{CellLaw, CellParams};
+use wovenform::fit::{self as fitting, FitOptions, STRAIN_RANGE};
+use wovenform::report::figure6;
+use wovenform::scene::{Override, Scene};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "wovenform",
+    version,
+    about = "Deep drawing of woven fabrics: the paper's biaxial woven-cell law and its uses"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+/// One variant per subcommand, each with its own `Args` struct and its own function in `main`.
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Evaluate the biaxial woven-cell law at one strain pair (one JSON object), or draw the
+    /// paper's Figure 6 with --curves.
+    Law(LawArgs),
+    /// Identify A and B (and C with --fit-c) from measured biaxial tension curves.
+    Fit(FitArgs),
+    /// Measure throughput on this machine (one thread; medians of several repetitions).
+    Bench(BenchArgs),
+}
+
+#[derive(Args, Debug)]
+struct BenchArgs {
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Repetitions per measurement (the median is reported).
+    #[arg(long, default_value_t = 7)]
+    repetitions: usize,
+}
+
+/// The scene options shared by the subcommands that read a scene.
+#[derive(Args, Debug, Clone, Default)]
+struct SceneArgs {
+    /// Scene file (TOML); without it, the embedded default (the paper's glass fabric).
+    #[arg(long, value_name = "SCENE.toml")]
+    scene: Option<PathBuf>,
+    /// Override one scene key; VALUE is a TOML literal, e.g. --set fabric.a=0.05 or
+    /// --set fabric.l0=[5.0,4.0]. Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+}
+
+impl SceneArgs {
+    fn load(&self) -> Result<Scene, Failure> {
+        let overrides = self
+            .set
+            .iter()
+            .map(|s| s.parse::<Override>())
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| Failure::BadInput(e.to_string()))?;
+        Scene::load(self.scene.as_deref(), &overrides).map_err(|e| Failure::BadInput(e.to_string()))
+    }
+}
+
+#[derive(Args, Debug)]
+struct LawArgs {
+    /// Warp strain ε11 (in [-0.05, 0.10]).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        required_unless_present = "curves"
+    )]
+    eps1: Option<f64>,
+    /// Weft strain ε22 (in [-0.05, 0.10]).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        required_unless_present = "curves"
+    )]
+    eps2: Option<f64>,
+    /// Write the paper's Figure 6 (figure6.csv, figure6.png) into --out instead.
+    #[arg(long, conflicts_with_all = ["eps1", "eps2"], requires = "out")]
+    curves: bool,
+    /// Output folder for --curves.
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
+#[derive(Args, Debug)]
+struct FitArgs {
+    /// Measured curves: CSV with header eps1,eps2,t11,t22 (strains, tensions per yarn in N).
+    #[arg(value_name = "DATA.csv")]
+    data: PathBuf,
+    /// Also identify the yarn stiffness C (one value for both yarns).
+    #[arg(long)]
+    fit_c: bool,
+    /// Folder for fit.png (default: the folder of DATA.csv).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
+/// Why a command did not succeed.
+#[derive(Debug)]
+enum Failure {
+    /// Exit code 2.
+    BadInput(String),
+    /// Exit code 1.
+    Run(String),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match cli.command {
+        None => overview(),
+        Some(Command::Law(args)) => law(args),
+        Some(Command::Fit(args)) => fit(args),
+        Some(Command::Bench(args)) => bench(args),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::BadInput(m)) => {
+            eprintln!("error: {m}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Run(m)) => {
+            eprintln!("error: {m}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// No subcommand: the law at the paper's reference strains and a pointer to --help.
+fn overview() -> Result<(), Failure> {
+    let p = CellParams::PAPER_GLASS;
+    let law = CellLaw::new(p);
+    println!("wovenform: deep drawing of woven fabrics (the biaxial woven-cell law for now)");
+    println!(
+        "paper glass fabric: L0 = {} mm, e0 = {} mm, C = {} N, A = {} mm, B = {} 1/N",
+        p.l0[0], p.e0[0], p.c[0], p.a, p.b
+    );
+    println!("   ε11     ε22    T11 (N)    T22 (N)  closure (mm)");
+    for eps in [[0.004, 0.004], [0.010, 0.0], [0.006, 0.003]] {
+        let r = law.evaluate(eps, law.initial_state());
+        println!(
+            "{:6.3}  {:6.3}  {:9.4}  {:9.4}  {:10.6}",
+            eps[0], eps[1], r.t[0], r.t[1], r.crimp.s
+        );
+    }
+    println!("run `wovenform --help` for the commands");
+    Ok(())
+}
+
+/// The fields printed by `wovenform law` (N, mm).
+#[derive(Serialize)]
+struct LawOutput {
+    t11: f64,
+    t22: f64,
+    w1: f64,
+    w2: f64,
+    closure: f64,
+    dt11_de1: f64,
+    dt11_de2: f64,
+    dt22_de1: f64,
+    dt22_de2: f64,
+}
+
+fn law(args: LawArgs) -> Result<(), Failure> {
+    let scene = args.scene.load()?;
+    let params = scene.to_cell_params();
+    if args.curves {
+        let out = args
+            .out
+            .as_deref()
+            .expect("clap requires --out with --curves");
+        let written = figure6::write_figure6(params, out).map_err(Failure::Run)?;
+        for path in written {
+            println!("{}", path.display());
+        }
+        return Ok(());
+    }
+    let strain = |name: &str, v: Option<f64>| -> Result<f64, Failure> {
+        let v = v.expect("clap requires --eps1 and --eps2 without --curves");
+        if (STRAIN_RANGE[0]..=STRAIN_RANGE[1]).contains(&v) {
+            Ok(v)
+        } else {
+            Err(Failure::BadInput(format!(
+                "--{name} = {v}: expected a strain in [{:.2}, {:.2}]",
+                STRAIN_RANGE[0], STRAIN_RANGE[1]
+            )))
+        }
+    };
+    let eps = [strain("eps1", args.eps1)?, strain("eps2", args.eps2)?];
+    let law = CellLaw::new(params);
+    let r = law.evaluate(eps, law.initial_state());
+    let w = r.w(&law);
+    let out = LawOutput {
+        t11: r.t[0],
+        t22: r.t[1],
+        w1: w[0],
+        w2: w[1],
+        closure: r.crimp.s,
+        dt11_de1: r.dt[0][0],
+        dt11_de2: r.dt[0][1],
+        dt22_de1: r.dt[1][0],
+        dt22_de2: r.dt[1][1],
+    };
+    let json = serde_json::to_string(&out).map_err(|e| Failure::Run(e.to_string()))?;
+    println!("{json}");
+    Ok(())
+}
+
+fn fit(args: FitArgs) -> Result<(), Failure> {
+    let scene = args.scene.load()?;
+    let samples = fitting::read_samples(&args.data).map_err(Failure::BadInput)?;
+    let options = FitOptions {
+        fit_c: args.fit_c,
+        ..FitOptions::default()
+    };
+    let start = scene.to_cell_params();
+    let result = fitting::fit(&samples, start, options).map_err(Failure::BadInput)?;
+    let p = result.params;
+    println!("fit of {}", args.data.display());
+    println!("A = {:.6} mm", p.a);
+    println!("B = {:.6} 1/N", p.b);
+    let c_note = if args.fit_c { "" } else { " (fixed)" };
+    if p.c[0] == p.c[1] {
+        println!("C = {:.1} N{c_note}", p.c[0]);
+    } else {
+        println!("C = [{:.1}, {:.1}] N{c_note}", p.c[0], p.c[1]);
+    }
+    println!("RMS residual = {:.4} N", result.rms_n);
+    println!("points = {}", result.points);
+    println!("iterations = {}", result.iterations);
+    let dir = match &args.out {
+        Some(d) => d.clone(),
+        None => match args.data.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        },
+    };
+    let png = write_fit_png(&dir, &samples, &result, &args.data).map_err(Failure::Run)?;
+    println!("{}", png.display());
+    if !result.converged {
+        return Err(Failure::Run(format!(
+            "the fit did not converge in {} iterations; the values above are the last iterate",
+            result.iterations
+        )));
+    }
+    Ok(())
+}
+
+fn write_fit_png(
+    dir: &Path,
+    samples: &[fitting::Sample],
+    result: &fitting::FitResult,
+    data: &Path,
+) -> Result<PathBuf, String> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+    let name = data
+        .file_name()
+        .unwrap_or(data.as_os_str())
+        .to_string_lossy();
+    let title = format!(
+        "Fit of {name}: A = {:.4} mm, B = {:.3} 1/N, RMS {:.2} N",
+        result.params.a, result.params.b, result.rms_n
+    );
+    let png = dir.join("fit.png");
+    fitting::fit_chart(samples, result, &title).write_png(&png)?;
+    Ok(png)
+}
+
+/// `wovenform bench`: law and element throughput, one thread.
+fn bench(args: BenchArgs) -> Result<(), Failure> {
+    let reps = args.repetitions.max(1);
+    let rates = [
+        wovenform::bench::law_rate(reps),
+        wovenform::bench::element_rate(reps),
+    ];
+    if args.json {
+        let obj = serde_json::json!({
+            "law_evals_per_s": rates[0].per_second,
+            "element_evals_per_s": rates[1].per_second,
+            "repetitions": reps,
+        });
+        println!("{obj}");
+    } else {
+        for r in &rates {
+            let lo = r.samples.iter().cloned().fold(f64::INFINITY, f64::min);
+            let hi = r.samples.iter().cloned().fold(0.0, f64::max);
+            println!(
+                "{:<48} {:>12.3e} /s  (median of {reps}; range {lo:.2e} to {hi:.2e})",
+                r.name, r.per_second
+            );
+        }
+    }
+    Ok(())
+}

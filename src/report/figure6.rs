@@ -1,0 +1,141 @@
+//! The paper's Figure 6: warp and weft tension against warp strain for biaxial strain paths
+//! of ratio `k = ε11/ε22` = 1, 2, 4 and the uniaxial path (ε22 = 0).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::core::law::{CellLaw, CellParams};
+use crate::report::plot::{Colour, LineChart, Series};
+
+/// The largest warp strain drawn (the paper's figure reaches about 1 %).
+pub const EPS_MAX: f64 = 0.012;
+
+/// A straight strain path from the unstrained state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StrainPath {
+    /// `ε22 = ε11 / k`.
+    Ratio(f64),
+    /// `ε22 = 0` (k = ∞).
+    Uniaxial,
+}
+
+impl StrainPath {
+    /// The figure's four paths: k = 1, 2, 4 and uniaxial.
+    pub const FIGURE6: [StrainPath; 4] = [
+        StrainPath::Ratio(1.0),
+        StrainPath::Ratio(2.0),
+        StrainPath::Ratio(4.0),
+        StrainPath::Uniaxial,
+    ];
+
+    /// The weft strain on this path at warp strain `eps1`.
+    pub fn weft_strain(self, eps1: f64) -> f64 {
+        match self {
+            StrainPath::Ratio(k) => eps1 / k,
+            StrainPath::Uniaxial => 0.0,
+        }
+    }
+
+    /// `k` as written in the CSV: a number, or `inf` for the uniaxial path.
+    pub fn k_label(self) -> String {
+        match self {
+            StrainPath::Ratio(k) => format!("{k}"),
+            StrainPath::Uniaxial => "inf".to_string(),
+        }
+    }
+
+    /// The legend's name for the path.
+    pub fn legend(self) -> String {
+        match self {
+            StrainPath::Ratio(k) => format!("k = {k}"),
+            StrainPath::Uniaxial => "uniaxial (ε22 = 0)".to_string(),
+        }
+    }
+}
+
+/// One point of one curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Figure6Row {
+    pub path: StrainPath,
+    /// `[ε11, ε22]`.
+    pub eps: [f64; 2],
+    /// `[T11, T22]`, N per yarn.
+    pub t: [f64; 2],
+}
+
+/// The curves: for each path, `points_per_curve` warp strains evenly from 0 to [`EPS_MAX`].
+pub fn figure6_table(params: CellParams, points_per_curve: usize) -> Vec<Figure6Row> {
+    let law = CellLaw::new(params);
+    let n = points_per_curve.max(2);
+    let mut rows = Vec::with_capacity(4 * n);
+    for path in StrainPath::FIGURE6 {
+        let mut state = law.initial_state();
+        for i in 0..n {
+            let eps1 = EPS_MAX * i as f64 / (n - 1) as f64;
+            let eps = [eps1, path.weft_strain(eps1)];
+            let r = law.evaluate(eps, state);
+            state = r.crimp;
+            rows.push(Figure6Row { path, eps, t: r.t });
+        }
+    }
+    rows
+}
+
+/// The table as CSV with columns `k,eps1,eps2,t11_n,t22_n`.
+pub fn figure6_csv(rows: &[Figure6Row]) -> String {
+    let mut s = String::from("k,eps1,eps2,t11_n,t22_n\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{}",
+            r.path.k_label(),
+            r.eps[0],
+            r.eps[1],
+            r.t[0],
+            r.t[1]
+        );
+    }
+    s
+}
+
+/// The chart: warp tension solid, weft tension dashed, one colour per path.
+pub fn figure6_chart(rows: &[Figure6Row]) -> LineChart {
+    let mut chart = LineChart::new(
+        "Biaxial tension of the woven cell (paper's Figure 6)",
+        "warp strain ε11 (%)",
+        "tension per yarn (N)",
+    );
+    for (i, path) in StrainPath::FIGURE6.into_iter().enumerate() {
+        let on_path = rows.iter().filter(|r| r.path == path);
+        let warp = on_path
+            .clone()
+            .map(|r| (100.0 * r.eps[0], r.t[0]))
+            .collect();
+        let weft = on_path.map(|r| (100.0 * r.eps[0], r.t[1])).collect();
+        let colour = Colour::nth(i);
+        chart.push(Series::line(
+            format!("{}: warp T11", path.legend()),
+            warp,
+            colour,
+        ));
+        chart.push(Series::dashed(
+            format!("{}: weft T22", path.legend()),
+            weft,
+            colour,
+        ));
+    }
+    chart
+}
+
+/// Writes `dir/figure6.csv` and `dir/figure6.png` (creating `dir`); returns the paths written.
+pub fn write_figure6(params: CellParams, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+    let rows = figure6_table(params, 121);
+    let csv = dir.join("figure6.csv");
+    std::fs::write(&csv, figure6_csv(&rows))
+        .map_err(|e| format!("{}: cannot write: {e}", csv.display()))?;
+    let png = dir.join("figure6.png");
+    figure6_chart(&rows).write_png(&png)?;
+    Ok(vec![csv, png])
+}
