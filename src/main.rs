@@ -3,15 +3,19 @@
 //! Exit codes: 0 success, 1 a failed run, 2 bad input (the message on stderr names the file or
 //! option, the key and what was expected). Clap's own usage errors also exit with 2.
 
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
+use wovenform::core::drawing;
 use wovenform::core::law::{CellLaw, CellParams};
 use wovenform::fit::{self as fitting, FitOptions, STRAIN_RANGE};
 use wovenform::report::figure6;
+use wovenform::report::summary::{self, RunSummary};
 use wovenform::scene::{Override, Scene};
 
 #[derive(Parser, Debug)]
@@ -28,6 +32,9 @@ struct Cli {
 /// One variant per subcommand, each with its own `Args` struct and its own function in `main`.
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Draw one scene: solve, print a summary (or one JSON object with --json) and write
+    /// summary.json, shear.png, tension.png and result.vtu into --out.
+    Run(RunArgs),
     /// Evaluate the biaxial woven-cell law at one strain pair (one JSON object), or draw the
     /// paper's Figure 6 with --curves.
     Law(LawArgs),
@@ -35,6 +42,23 @@ enum Command {
     Fit(FitArgs),
     /// Measure throughput on this machine (one thread; medians of several repetitions).
     Bench(BenchArgs),
+}
+
+#[derive(Args, Debug)]
+struct RunArgs {
+    /// Scene file (TOML).
+    #[arg(value_name = "SCENE.toml")]
+    scene: PathBuf,
+    /// Override one scene key; VALUE is a TOML literal, e.g. --set tools.r=7.5 or
+    /// --set blank.size=[130,100]. Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Output folder (default: out/<scene file stem>).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Print one JSON object instead of the text summary.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args, Debug)]
@@ -125,6 +149,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         None => overview(),
+        Some(Command::Run(args)) => run(args),
         Some(Command::Law(args)) => law(args),
         Some(Command::Fit(args)) => fit(args),
         Some(Command::Bench(args)) => bench(args),
@@ -161,6 +186,62 @@ fn overview() -> Result<(), Failure> {
     }
     println!("run `wovenform --help` for the commands");
     Ok(())
+}
+
+/// `wovenform run`: solve one scene, report it, write the maps, the VTU and the summary.
+fn run(args: RunArgs) -> Result<(), Failure> {
+    let scene = SceneArgs {
+        scene: Some(args.scene.clone()),
+        set: args.set.clone(),
+    }
+    .load()?;
+    let name = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let problem = scene.to_problem();
+    let bar = stroke_bar(problem.stroke);
+    let result = drawing::solve(&problem, &mut |fraction| {
+        bar.set_position((fraction * 1000.0).round() as u64);
+        bar.set_message(format!(
+            "stroke {:.2} of {} mm",
+            fraction * problem.stroke,
+            problem.stroke
+        ));
+    });
+    bar.finish_and_clear();
+    let mut summary = RunSummary::new(&name, &scene, &result);
+    let dir = args.out.unwrap_or_else(|| Path::new("out").join(&name));
+    summary::write_run(&dir, &mut summary, &result, &problem.tooling).map_err(Failure::Run)?;
+    if args.json {
+        println!("{}", summary.to_json());
+    } else {
+        print!("{}", summary.to_text());
+    }
+    if !result.converged {
+        return Err(Failure::Run(format!(
+            "{}: the drawing did not converge: {}",
+            args.scene.display(),
+            result.failure.as_deref().unwrap_or("no cause given")
+        )));
+    }
+    Ok(())
+}
+
+/// A progress bar of the punch stroke on stderr, drawn only when stderr is a terminal.
+fn stroke_bar(stroke_mm: f64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {msg}")
+    {
+        bar.set_style(style);
+    }
+    bar.set_message(format!("stroke 0.00 of {stroke_mm} mm"));
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar
 }
 
 /// The fields printed by `wovenform law` (N, mm).

@@ -1,9 +1,10 @@
 //! The TOML scene: serde types, defaults, validation and `--set` overrides.
 //!
-//! A scene file is a set of tables; today only `[fabric]` exists (tools, process and mesh
-//! sections join it later, each as one more field of [`Scene`] with its own `#[serde(default)]`
-//! type and its own `validate`). Every table rejects unknown keys by name. Missing keys take the
-//! paper's values, so an empty file (or no file at all) is the paper's glass fabric.
+//! A scene file is a set of tables — `[fabric]`, `[tools]`, `[process]`, `[mesh]`, `[blank]`,
+//! `[numerics]` — each a field of [`Scene`] with its own `#[serde(default)]` type. Every table
+//! rejects unknown keys by name. Missing keys take the defaults: the paper's glass fabric and
+//! `DrawingProblem::paper_box(10, 15, 10)`, so an empty file (or no file at all) is the paper's
+//! open square box.
 //!
 //! Loading goes text → `toml::Table` → `--set` overrides applied to the table → typed
 //! [`Scene`] → physical validation. Applying overrides to the untyped table means any key works
@@ -16,6 +17,27 @@
 //! c = 38000             # N
 //! a = 0.075             # mm
 //! b = 0.25              # 1/N
+//!
+//! [tools]
+//! kind = "box"          # "box" | "ellipsoid" | "hemisphere"
+//! side = 60             # mm (box), or [x, y]
+//! r = 10                # punch corner radius, mm (box)
+//! rp = 15               # punch nose radius, mm (box)
+//! rm = 10               # die entry radius, mm
+//! clearance = 1.5       # mm
+//! # axes = [40, 25, 20] # ellipsoid semi-axes, mm;  radius = 30  for the hemisphere
+//!
+//! [process]
+//! friction = 0.2
+//! holder_pressure = 1.0 # MPa
+//! stroke = 20           # mm
+//!
+//! [mesh]
+//! element_size = 2.5    # mm
+//! symmetry = "auto"     # "auto" | "full" | "quarter"
+//!
+//! [blank]
+//! size = 140            # mm, or [x, y]
 //! ```
 
 use std::fmt;
@@ -24,6 +46,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use crate::core::drawing::{DrawingProblem, Symmetry, Tooling};
 use crate::core::law::CellParams;
 
 /// What a scene error points at when there is no file.
@@ -123,35 +146,69 @@ impl Serialize for PerYarn {
 
 impl<'de> Deserialize<'de> for PerYarn {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl<'de> serde::de::Visitor<'de> for V {
-            type Value = PerYarn;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number, or a [warp, weft] pair of numbers")
-            }
-            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<PerYarn, E> {
-                Ok(PerYarn([v, v]))
-            }
-            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<PerYarn, E> {
-                Ok(PerYarn([v as f64; 2]))
-            }
-            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<PerYarn, E> {
-                Ok(PerYarn([v as f64; 2]))
-            }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(
-                self,
-                mut seq: A,
-            ) -> Result<PerYarn, A::Error> {
-                let len_err = |n| serde::de::Error::invalid_length(n, &"a [warp, weft] pair");
-                let w: f64 = seq.next_element()?.ok_or_else(|| len_err(0))?;
-                let f: f64 = seq.next_element()?.ok_or_else(|| len_err(1))?;
-                if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
-                    return Err(len_err(3));
-                }
-                Ok(PerYarn([w, f]))
-            }
+        d.deserialize_any(PairVisitor {
+            expecting: "a number, or a [warp, weft] pair of numbers",
+            pair: "a [warp, weft] pair",
+        })
+        .map(PerYarn)
+    }
+}
+
+/// Reads one number (used for both) or a pair of numbers.
+struct PairVisitor {
+    expecting: &'static str,
+    pair: &'static str,
+}
+
+impl<'de> serde::de::Visitor<'de> for PairVisitor {
+    type Value = [f64; 2];
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(self.expecting)
+    }
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<[f64; 2], E> {
+        Ok([v, v])
+    }
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<[f64; 2], E> {
+        Ok([v as f64; 2])
+    }
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<[f64; 2], E> {
+        Ok([v as f64; 2])
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<[f64; 2], A::Error> {
+        let pair = self.pair;
+        let len_err = |n| serde::de::Error::invalid_length(n, &pair);
+        let a: f64 = seq.next_element()?.ok_or_else(|| len_err(0))?;
+        let b: f64 = seq.next_element()?.ok_or_else(|| len_err(1))?;
+        if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+            return Err(len_err(3));
         }
-        d.deserialize_any(V)
+        Ok([a, b])
+    }
+}
+
+/// Plan dimensions `[x, y]`, mm. In TOML either a 2-array or one number for both (a square).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanPair(pub [f64; 2]);
+
+impl Serialize for PlanPair {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for PlanPair {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(PairVisitor {
+            expecting: "a number (a square), or an [x, y] pair of numbers",
+            pair: "an [x, y] pair",
+        })
+        .map(PlanPair)
+    }
+}
+
+impl fmt::Display for PlanPair {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "[{}, {}]", self.0[0], self.0[1])
     }
 }
 
@@ -281,12 +338,274 @@ impl Fabric {
     }
 }
 
+/// The tool radii `[r, rp, rm]` (mm) of the default scene: the paper's open box.
+pub const DEFAULT_BOX_RADII: [f64; 3] = [10.0, 15.0, 10.0];
+
+/// The drawing the scene defaults come from: `DrawingProblem::paper_box(10, 15, 10)`.
+fn default_problem() -> DrawingProblem {
+    let [r, rp, rm] = DEFAULT_BOX_RADII;
+    DrawingProblem::paper_box(r, rp, rm)
+}
+
+/// The punch shape (`tools.kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ToolKind {
+    /// A flat-nosed rectangular punch with rounded corners and nose (the paper's box).
+    #[default]
+    Box,
+    /// A half-ellipsoid punch.
+    Ellipsoid,
+    /// A hemispherical punch.
+    Hemisphere,
+}
+
+impl ToolKind {
+    /// The name written in the scene file.
+    pub fn name(self) -> &'static str {
+        match self {
+            ToolKind::Box => "box",
+            ToolKind::Ellipsoid => "ellipsoid",
+            ToolKind::Hemisphere => "hemisphere",
+        }
+    }
+
+    /// The `[tools]` keys that describe this punch only (the others are shared).
+    fn own_keys(self) -> &'static [&'static str] {
+        match self {
+            ToolKind::Box => &["side", "r", "rp"],
+            ToolKind::Ellipsoid => &["axes"],
+            ToolKind::Hemisphere => &["radius"],
+        }
+    }
+}
+
+/// `[tools]` keys that belong to one kind of punch.
+const KIND_KEYS: [&str; 5] = ["side", "r", "rp", "axes", "radius"];
+
+/// The `[tools]` table: the punch and the die. Defaults: the paper's box with r = 10, rp = 15,
+/// rm = 10 mm (side and clearance are not in the paper: see `DrawingProblem::paper_box`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Tools {
+    /// `"box"`, `"ellipsoid"` or `"hemisphere"`.
+    pub kind: ToolKind,
+    /// Box: punch sides `[x, y]`, mm (one number: a square).
+    pub side: PlanPair,
+    /// Box: plan corner radius of the punch, mm.
+    pub r: f64,
+    /// Box: nose radius of the punch, mm.
+    pub rp: f64,
+    /// Die entry radius, mm.
+    pub rm: f64,
+    /// Gap between the punch and the die opening in plan, mm.
+    pub clearance: f64,
+    /// Ellipsoid: semi-axes `[ax, ay, az]`, mm (`az` is the punch's depth).
+    pub axes: [f64; 3],
+    /// Hemisphere: radius, mm.
+    pub radius: f64,
+}
+
+impl Default for Tools {
+    fn default() -> Self {
+        let Tooling::Box {
+            side,
+            r,
+            rp,
+            rm,
+            clearance,
+        } = default_problem().tooling
+        else {
+            unreachable!("the paper's box is a box")
+        };
+        Tools {
+            kind: ToolKind::Box,
+            side: PlanPair(side),
+            r,
+            rp,
+            rm,
+            clearance,
+            axes: [40.0, 25.0, 20.0],
+            radius: 30.0,
+        }
+    }
+}
+
+impl Tools {
+    /// The punch and die pair for the solver.
+    pub fn tooling(&self) -> Tooling {
+        match self.kind {
+            ToolKind::Box => Tooling::Box {
+                side: self.side.0,
+                r: self.r,
+                rp: self.rp,
+                rm: self.rm,
+                clearance: self.clearance,
+            },
+            ToolKind::Ellipsoid => Tooling::Ellipsoid {
+                axes: self.axes,
+                rm: self.rm,
+                clearance: self.clearance,
+            },
+            ToolKind::Hemisphere => Tooling::Hemisphere {
+                radius: self.radius,
+                rm: self.rm,
+                clearance: self.clearance,
+            },
+        }
+    }
+
+    /// The punch's depth below its widest section, mm (`None` for the box, which is extruded).
+    pub fn punch_depth(&self) -> Option<f64> {
+        match self.kind {
+            ToolKind::Box => None,
+            ToolKind::Ellipsoid => Some(self.axes[2]),
+            ToolKind::Hemisphere => Some(self.radius),
+        }
+    }
+}
+
+/// The `[process]` table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Process {
+    /// Coulomb friction coefficient between the fabric and every tool.
+    pub friction: f64,
+    /// Blank-holder pressure, MPa (0: no holder).
+    pub holder_pressure: f64,
+    /// Punch travel from touching the blank, mm.
+    pub stroke: f64,
+}
+
+impl Default for Process {
+    fn default() -> Self {
+        let p = default_problem();
+        Process {
+            friction: p.friction,
+            holder_pressure: p.holder_pressure,
+            stroke: p.stroke,
+        }
+    }
+}
+
+/// `mesh.symmetry`: how much of the blank is solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SymmetryChoice {
+    /// A quarter when the yarns lie along x and y (every tool here is symmetric about both).
+    #[default]
+    Auto,
+    /// The whole blank.
+    Full,
+    /// A quarter (x ≥ 0, y ≥ 0), mirrored for pictures.
+    Quarter,
+}
+
+impl SymmetryChoice {
+    pub fn name(self) -> &'static str {
+        match self {
+            SymmetryChoice::Auto => "auto",
+            SymmetryChoice::Full => "full",
+            SymmetryChoice::Quarter => "quarter",
+        }
+    }
+}
+
+/// The `[mesh]` table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MeshSettings {
+    /// Target element size, mm.
+    pub element_size: f64,
+    pub symmetry: SymmetryChoice,
+}
+
+impl Default for MeshSettings {
+    fn default() -> Self {
+        MeshSettings {
+            element_size: default_problem().element_size,
+            symmetry: SymmetryChoice::Auto,
+        }
+    }
+}
+
+/// The `[blank]` table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Blank {
+    /// Blank sides `[x, y]` (the warp along x), mm, centred on the punch.
+    pub size: PlanPair,
+}
+
+impl Default for Blank {
+    fn default() -> Self {
+        Blank {
+            size: PlanPair(default_problem().blank),
+        }
+    }
+}
+
+/// The `[numerics]` table: knobs of the solver that a user may need to turn.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Numerics {
+    /// Viscous stabilisation κ of the slack fabric (dimensionless; 0 turns it off).
+    pub stabilisation: f64,
+    /// Contact penalty, as a multiple of the cells' tensile stiffness.
+    pub penalty_factor: f64,
+}
+
+impl Default for Numerics {
+    fn default() -> Self {
+        let p = default_problem();
+        Numerics {
+            stabilisation: p.solver.stabilisation,
+            penalty_factor: p.penalty_factor,
+        }
+    }
+}
+
+/// A broken bound of the drawing: the key blamed, the keys involved (to find who set them) and
+/// the message (which starts with the key).
+struct Broken {
+    key: String,
+    involved: Vec<&'static str>,
+    detail: String,
+}
+
+/// `key = value: expected what`, blaming `key` alone.
+fn broken(key: &'static str, value: impl fmt::Display, what: impl fmt::Display) -> Broken {
+    Broken {
+        key: key.to_string(),
+        involved: vec![key],
+        detail: format!("{key} = {value}: expected {what}"),
+    }
+}
+
+fn ok_if(ok: bool, f: impl FnOnce() -> Broken) -> Result<(), Broken> {
+    if ok { Ok(()) } else { Err(f()) }
+}
+
+fn fmt3(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", v[0], v[1], v[2])
+}
+
 /// A whole scene. Each section is a table of the TOML file.
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     #[serde(default)]
     pub fabric: Fabric,
+    #[serde(default)]
+    pub tools: Tools,
+    #[serde(default)]
+    pub process: Process,
+    #[serde(default)]
+    pub mesh: MeshSettings,
+    #[serde(default)]
+    pub blank: Blank,
+    #[serde(default)]
+    pub numerics: Numerics,
 }
 
 impl Scene {
@@ -336,8 +655,65 @@ impl Scene {
                 let message = e.inner().message().to_string();
                 structural_error(&path, &message, &table, &origin_of)
             })?;
-        scene.validate_with(&origin_of)?;
+        scene.check_kind_keys(&table, overrides, origin, &origin_of)?;
+        scene.validate_with(&|keys: &[&str]| {
+            // The last override that touched any of the keys, else the file.
+            overrides
+                .iter()
+                .rev()
+                .find(|o| {
+                    keys.iter()
+                        .any(|k| o.key == *k || k.starts_with(&format!("{}.", o.key)))
+                })
+                .map(|o| format!("--set {}", o.text))
+                .unwrap_or_else(|| origin.to_string())
+        })?;
         Ok(scene)
+    }
+
+    /// Rejects `[tools]` keys of another kind of punch (they would be silently ignored). When
+    /// `tools.kind` itself comes from `--set`, the file's keys for the old kind are let pass.
+    fn check_kind_keys(
+        &self,
+        table: &toml::Table,
+        overrides: &[Override],
+        origin: &str,
+        origin_of: &dyn Fn(&str) -> String,
+    ) -> Result<(), SceneError> {
+        let Some(toml::Value::Table(tools)) = table.get("tools") else {
+            return Ok(());
+        };
+        let kind = self.tools.kind;
+        let kind_overridden = overrides
+            .iter()
+            .any(|o| o.key == "tools.kind" || o.key == "tools");
+        for name in tools.keys() {
+            if !KIND_KEYS.contains(&name.as_str()) || kind.own_keys().contains(&name.as_str()) {
+                continue;
+            }
+            let key = format!("tools.{name}");
+            let blamed = origin_of(&key);
+            if kind_overridden && blamed == origin {
+                continue;
+            }
+            let owner = [ToolKind::Box, ToolKind::Ellipsoid, ToolKind::Hemisphere]
+                .into_iter()
+                .find(|k| k.own_keys().contains(&name.as_str()))
+                .expect("every kind key has an owner");
+            let mut keys: Vec<&str> = kind.own_keys().to_vec();
+            keys.extend(["rm", "clearance"]);
+            return Err(SceneError {
+                origin: blamed,
+                detail: format!(
+                    "{key}: only for tools.kind = \"{}\"; expected, for tools.kind = \"{}\", one of: {}",
+                    owner.name(),
+                    kind.name(),
+                    keys.join(", ")
+                ),
+                key: Some(key),
+            });
+        }
+        Ok(())
     }
 
     /// Checks the physical bounds; `origin` names the scene in the error.
@@ -345,15 +721,209 @@ impl Scene {
         self.validate_with(&|_| origin.to_string())
     }
 
-    fn validate_with(&self, origin_of: &dyn Fn(&str) -> String) -> Result<(), SceneError> {
+    /// `origin_of(keys)` names who set the keys involved in a broken bound.
+    fn validate_with(&self, origin_of: &dyn Fn(&[&str]) -> String) -> Result<(), SceneError> {
         self.fabric.check().map_err(|(key, value, what)| {
             let key = format!("fabric.{key}");
             SceneError {
-                origin: origin_of(&key),
+                origin: origin_of(&[&key]),
                 detail: format!("{key} = {value}: expected {what}"),
                 key: Some(key),
             }
+        })?;
+        self.check_drawing().map_err(|b| SceneError {
+            origin: origin_of(&b.involved),
+            detail: b.detail,
+            key: Some(b.key),
         })
+    }
+
+    /// The physical bounds of the tools, process, blank, mesh and numerics.
+    fn check_drawing(&self) -> Result<(), Broken> {
+        let t = &self.tools;
+        let pos = |v: f64| v.is_finite() && v > 0.0;
+        ok_if(pos(t.rm), || {
+            broken("tools.rm", t.rm, "a die entry radius rm > 0 mm")
+        })?;
+        ok_if(t.clearance.is_finite() && t.clearance >= 0.0, || {
+            broken(
+                "tools.clearance",
+                t.clearance,
+                "a punch–die clearance ≥ 0 mm",
+            )
+        })?;
+        match t.kind {
+            ToolKind::Box => {
+                ok_if(t.side.0.iter().all(|&v| pos(v)), || {
+                    broken("tools.side", t.side, "punch sides > 0 mm")
+                })?;
+                let half = 0.5 * t.side.0[0].min(t.side.0[1]);
+                ok_if(pos(t.r), || {
+                    broken("tools.r", t.r, "a punch corner radius r > 0 mm")
+                })?;
+                ok_if(t.r < half, || Broken {
+                    key: "tools.r".into(),
+                    involved: vec!["tools.r", "tools.side"],
+                    detail: format!(
+                        "tools.r = {}: r larger than the punch allows: expected a corner radius r < side/2 = {half} mm",
+                        t.r
+                    ),
+                })?;
+                ok_if(pos(t.rp), || {
+                    broken("tools.rp", t.rp, "a punch nose radius rp > 0 mm")
+                })?;
+                ok_if(t.rp < half, || Broken {
+                    key: "tools.rp".into(),
+                    involved: vec!["tools.rp", "tools.side"],
+                    detail: format!(
+                        "tools.rp = {}: rp larger than the punch allows: expected a nose radius rp < side/2 = {half} mm",
+                        t.rp
+                    ),
+                })?;
+            }
+            ToolKind::Ellipsoid => {
+                ok_if(t.axes.iter().all(|&v| pos(v)), || {
+                    broken(
+                        "tools.axes",
+                        fmt3(t.axes),
+                        "punch semi-axes [ax, ay, az] > 0 mm",
+                    )
+                })?;
+            }
+            ToolKind::Hemisphere => {
+                ok_if(pos(t.radius), || {
+                    broken("tools.radius", t.radius, "a punch radius > 0 mm")
+                })?;
+            }
+        }
+        let p = &self.process;
+        ok_if(
+            p.friction.is_finite() && (0.0..=1.0).contains(&p.friction),
+            || {
+                broken(
+                    "process.friction",
+                    p.friction,
+                    "a friction coefficient μ in [0, 1]",
+                )
+            },
+        )?;
+        ok_if(
+            p.holder_pressure.is_finite() && (0.0..=50.0).contains(&p.holder_pressure),
+            || {
+                broken(
+                    "process.holder_pressure",
+                    p.holder_pressure,
+                    "a blank-holder pressure in [0, 50] MPa",
+                )
+            },
+        )?;
+        ok_if(pos(p.stroke), || {
+            broken("process.stroke", p.stroke, "a punch stroke > 0 mm")
+        })?;
+        if let Some(depth) = t.punch_depth() {
+            let axis = if t.kind == ToolKind::Ellipsoid {
+                "the semi-axis az"
+            } else {
+                "its radius"
+            };
+            ok_if(p.stroke <= depth, || Broken {
+                key: "process.stroke".into(),
+                involved: vec!["process.stroke", "tools.axes", "tools.radius"],
+                detail: format!(
+                    "process.stroke = {}: expected a stroke ≤ the punch's depth, {axis} = {depth} mm (the punch is the lower half of the {})",
+                    p.stroke,
+                    t.kind.name()
+                ),
+            })?;
+        }
+        let b = self.blank.size.0;
+        ok_if(b.iter().all(|&v| pos(v)), || {
+            broken("blank.size", self.blank.size, "blank sides > 0 mm")
+        })?;
+        let half = t.tooling().opening_half();
+        let need = [2.0 * (half[0] + t.rm), 2.0 * (half[1] + t.rm)];
+        ok_if(b[0] > need[0] && b[1] > need[1], || Broken {
+            key: "blank.size".into(),
+            involved: vec![
+                "blank.size",
+                "tools.side",
+                "tools.clearance",
+                "tools.rm",
+                "tools.axes",
+                "tools.radius",
+            ],
+            detail: format!(
+                "blank.size = {}: blank barely larger than the die opening: expected sides > the opening plus 2·rm = {} mm, so that the blank's edge rests on the die face",
+                self.blank.size,
+                PlanPair(need)
+            ),
+        })?;
+        let m = &self.mesh;
+        let quarter_of_blank = 0.25 * b[0].min(b[1]);
+        ok_if(
+            pos(m.element_size) && m.element_size <= quarter_of_blank,
+            || Broken {
+                key: "mesh.element_size".into(),
+                involved: vec!["mesh.element_size", "blank.size"],
+                detail: format!(
+                    "mesh.element_size = {}: expected an element size > 0 and ≤ blank/4 = {quarter_of_blank} mm",
+                    m.element_size
+                ),
+            },
+        )?;
+        let yarns_on_axes = (self.fabric.yarn_angle_deg - 90.0).abs() < 1e-9;
+        ok_if(
+            m.symmetry != SymmetryChoice::Quarter || yarns_on_axes,
+            || Broken {
+                key: "mesh.symmetry".into(),
+                involved: vec!["mesh.symmetry", "fabric.yarn_angle_deg"],
+                detail: format!(
+                    "mesh.symmetry = \"quarter\": expected \"auto\" or \"full\" when the yarns are not along x and y (fabric.yarn_angle_deg = {})",
+                    self.fabric.yarn_angle_deg
+                ),
+            },
+        )?;
+        let n = &self.numerics;
+        ok_if(
+            n.stabilisation.is_finite() && n.stabilisation >= 0.0,
+            || {
+                broken(
+                    "numerics.stabilisation",
+                    n.stabilisation,
+                    "a viscous stabilisation κ ≥ 0 (0 turns it off)",
+                )
+            },
+        )?;
+        ok_if(pos(n.penalty_factor), || {
+            broken(
+                "numerics.penalty_factor",
+                n.penalty_factor,
+                "a contact penalty factor > 0",
+            )
+        })?;
+        Ok(())
+    }
+
+    /// The drawing this scene describes, for [`crate::core::drawing::solve`]. Solver settings
+    /// the scene does not expose keep the defaults of `DrawingProblem::paper_box`.
+    pub fn to_problem(&self) -> DrawingProblem {
+        let mut p = default_problem();
+        p.fabric = self.to_cell_params();
+        p.yarn_angle_deg = self.fabric.yarn_angle_deg;
+        p.tooling = self.tools.tooling();
+        p.blank = self.blank.size.0;
+        p.friction = self.process.friction;
+        p.holder_pressure = self.process.holder_pressure;
+        p.stroke = self.process.stroke;
+        p.element_size = self.mesh.element_size;
+        p.symmetry = match self.mesh.symmetry {
+            SymmetryChoice::Auto => Symmetry::Auto,
+            SymmetryChoice::Full => Symmetry::Full,
+            SymmetryChoice::Quarter => Symmetry::Quarter,
+        };
+        p.solver.stabilisation = self.numerics.stabilisation;
+        p.penalty_factor = self.numerics.penalty_factor;
+        p
     }
 
     /// The law's parameters for this scene's fabric.
@@ -529,5 +1099,201 @@ mod tests {
         let e = parse("[fabric]\nundulation = 3\n", &[]).unwrap_err();
         assert_eq!(e.key.as_deref(), Some("fabric.undulation"), "{e}");
         assert!(e.detail.contains("= 3"), "{e}");
+    }
+
+    #[test]
+    fn empty_scene_is_the_paper_open_box() {
+        let s = parse("", &[]).unwrap();
+        assert_eq!(s.to_problem(), DrawingProblem::paper_box(10.0, 15.0, 10.0));
+    }
+
+    #[test]
+    fn every_drawing_key_works_with_set() {
+        // (override, what it must change in the problem)
+        type Check = fn(&DrawingProblem) -> bool;
+        let cases: [(&str, Check); 16] = [
+            (
+                "tools.r=7.5",
+                |p| matches!(p.tooling, Tooling::Box { r, .. } if r == 7.5),
+            ),
+            (
+                "tools.rp=6",
+                |p| matches!(p.tooling, Tooling::Box { rp, .. } if rp == 6.0),
+            ),
+            (
+                "tools.rm=4",
+                |p| matches!(p.tooling, Tooling::Box { rm, .. } if rm == 4.0),
+            ),
+            (
+                "tools.side=[50,40]",
+                |p| matches!(p.tooling, Tooling::Box { side, .. } if side == [50.0, 40.0]),
+            ),
+            (
+                "tools.clearance=0",
+                |p| matches!(p.tooling, Tooling::Box { clearance, .. } if clearance == 0.0),
+            ),
+            ("process.friction=0.1", |p| p.friction == 0.1),
+            ("process.holder_pressure=0", |p| p.holder_pressure == 0.0),
+            ("process.stroke=12.5", |p| p.stroke == 12.5),
+            ("mesh.element_size=5", |p| p.element_size == 5.0),
+            ("mesh.symmetry=\"full\"", |p| p.symmetry == Symmetry::Full),
+            ("blank.size=[150,120]", |p| p.blank == [150.0, 120.0]),
+            ("numerics.stabilisation=0", |p| {
+                p.solver.stabilisation == 0.0
+            }),
+            ("numerics.penalty_factor=20", |p| p.penalty_factor == 20.0),
+            ("fabric.undulation=false", |p| !p.fabric.undulation),
+            ("fabric.yarn_angle_deg=80", |p| p.yarn_angle_deg == 80.0),
+            ("fabric.c=30000", |p| p.fabric.c == [30000.0; 2]),
+        ];
+        for (set, check) in cases {
+            let p = parse("", &[set])
+                .unwrap_or_else(|e| panic!("{set}: {e}"))
+                .to_problem();
+            assert!(check(&p), "--set {set} did not reach the problem: {p:?}");
+        }
+        let p = parse(
+            "",
+            &[
+                "tools.kind=\"ellipsoid\"",
+                "tools.axes=[30,20,10]",
+                "process.stroke=10",
+            ],
+        )
+        .unwrap()
+        .to_problem();
+        assert_eq!(
+            p.tooling,
+            Tooling::Ellipsoid {
+                axes: [30.0, 20.0, 10.0],
+                rm: 10.0,
+                clearance: 1.5
+            }
+        );
+        let p = parse(
+            "[tools]\nkind = \"hemisphere\"\nradius = 25\n",
+            &["tools.radius=28"],
+        )
+        .unwrap()
+        .to_problem();
+        assert!(matches!(p.tooling, Tooling::Hemisphere { radius, .. } if radius == 28.0));
+    }
+
+    #[test]
+    fn drawing_bounds_name_key_and_expectation() {
+        let e = parse("[tools]\nr = -1\n", &[]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "x.toml: tools.r = -1: expected a punch corner radius r > 0 mm"
+        );
+        let e = parse("", &["tools.rp=31"]).unwrap_err();
+        assert_eq!(e.origin, "--set tools.rp=31");
+        assert!(e.detail.contains("rp larger than the punch allows"), "{e}");
+        assert!(e.detail.contains("side/2 = 30 mm"), "{e}");
+        // A smaller side makes the file's rp too large: the override that did it is named.
+        let e = parse("[tools]\nrp = 15\n", &["tools.side=28"]).unwrap_err();
+        assert_eq!(e.origin, "--set tools.side=28", "{e}");
+        assert_eq!(e.key.as_deref(), Some("tools.rp"), "{e}");
+        let e = parse("", &["blank.size=80"]).unwrap_err();
+        assert!(
+            e.detail
+                .starts_with("blank.size = [80, 80]: blank barely larger than the die opening"),
+            "{e}"
+        );
+        assert!(e.detail.contains("[83, 83] mm"), "{e}");
+        for (set, key) in [
+            ("process.friction=-0.1", "process.friction"),
+            ("process.friction=1.5", "process.friction"),
+            ("process.holder_pressure=51", "process.holder_pressure"),
+            ("process.stroke=0", "process.stroke"),
+            ("mesh.element_size=40", "mesh.element_size"),
+            ("mesh.element_size=0", "mesh.element_size"),
+            ("tools.clearance=-1", "tools.clearance"),
+            ("tools.rm=0", "tools.rm"),
+            ("numerics.penalty_factor=0", "numerics.penalty_factor"),
+            ("numerics.stabilisation=-1", "numerics.stabilisation"),
+        ] {
+            let e = parse("", &[set]).unwrap_err();
+            assert_eq!(e.key.as_deref(), Some(key), "{set}: {e}");
+            assert!(e.detail.contains("expected"), "{set}: {e}");
+        }
+        let e = parse("[tools]\nkind = \"hemisphere\"\n", &["process.stroke=31"]).unwrap_err();
+        assert!(e.detail.contains("punch's depth"), "{e}");
+        let e = parse(
+            "",
+            &["mesh.symmetry=\"quarter\"", "fabric.yarn_angle_deg=45"],
+        )
+        .unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("mesh.symmetry"), "{e}");
+        let e = parse("[tools]\nkind = \"cone\"\n", &[]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("tools.kind"), "{e}");
+        assert!(e.detail.contains("hemisphere"), "{e}");
+        let e = parse("[blank]\nsize = [1, 2, 3]\n", &[]).unwrap_err();
+        assert!(e.detail.starts_with("blank.size"), "{e}");
+    }
+
+    #[test]
+    fn keys_of_another_punch_are_rejected() {
+        let e = parse("[tools]\nkind = \"ellipsoid\"\nr = 5\n", &[]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("tools.r"), "{e}");
+        assert!(e.detail.contains("only for tools.kind = \"box\""), "{e}");
+        let e = parse("", &["tools.axes=[30,20,10]"]).unwrap_err();
+        assert_eq!(e.origin, "--set tools.axes=[30,20,10]");
+        // Switching the kind with --set lets the file's box keys pass.
+        let s = parse(
+            "[tools]\nr = 5\nrp = 6\n",
+            &["tools.kind=\"hemisphere\"", "tools.radius=20"],
+        )
+        .unwrap();
+        assert_eq!(s.tools.kind, ToolKind::Hemisphere);
+    }
+
+    #[test]
+    fn the_presets_load_and_the_boxes_differ_only_in_the_radii() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets");
+        let load = |name: &str| Scene::load(Some(&dir.join(name)), &[]).unwrap();
+        let tight = load("paper-box-tight.toml");
+        let open = load("paper-box-open.toml");
+        let radii = |s: &Scene| [s.tools.r, s.tools.rp, s.tools.rm];
+        assert_eq!(radii(&tight), [5.0, 6.0, 5.0]);
+        assert_eq!(radii(&open), [10.0, 15.0, 10.0]);
+        let mut same = tight.clone();
+        same.tools = Tools {
+            r: 10.0,
+            rp: 15.0,
+            rm: 10.0,
+            ..tight.tools.clone()
+        };
+        assert_eq!(same, open);
+        // The open box is the default drawing, with the linear yarn law (the paper's first
+        // example); the stroke and the mesh may be tuned in the preset.
+        let mut want = DrawingProblem::paper_box(10.0, 15.0, 10.0);
+        want.fabric.undulation = false;
+        let got = open.to_problem();
+        assert_eq!(
+            (
+                got.fabric,
+                got.tooling,
+                got.blank,
+                got.friction,
+                got.holder_pressure
+            ),
+            (
+                want.fabric,
+                want.tooling,
+                want.blank,
+                want.friction,
+                want.holder_pressure
+            )
+        );
+        assert_eq!(open.fabric.locking_angle_deg, 60.0);
+        for name in ["paper-ellipsoid.toml", "hemisphere.toml"] {
+            let s = load(name);
+            assert!(s.fabric.undulation, "{name}");
+        }
+        assert_eq!(load("paper-ellipsoid.toml").tools.kind, ToolKind::Ellipsoid);
+        assert_eq!(load("hemisphere.toml").tools.kind, ToolKind::Hemisphere);
+        let sets: Vec<Override> = vec!["fabric.undulation=false".parse().unwrap()];
+        Scene::load(Some(&dir.join("paper-ellipsoid.toml")), &sets).unwrap();
     }
 }

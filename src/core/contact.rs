@@ -99,10 +99,38 @@ pub struct Contact {
     /// Nodes within reach of each tool at the step start (the rest are skipped).
     active: Vec<Vec<u32>>,
     reach: f64,
+    /// Load factor and the force of the first tool (the punch) on the fabric (z component, N)
+    /// at the end of every accepted step.
+    pub punch_history: Vec<(f64, f64)>,
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The positive semi-definite part of a symmetric 3×3 block (negative eigenvalues set to 0).
+///
+/// The exact Hessian of the penalty, `k (n nᵀ + g ∂n/∂x)`, is indefinite for a node pressed
+/// against a convex tool (`g < 0`): it would slide off unless the fabric holds it. Where it is
+/// positive semi-definite it is kept exactly (and Newton converges quadratically); elsewhere its
+/// negative part is dropped, so the tangent stays factorizable by Cholesky.
+fn positive_part(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mat = nalgebra::Matrix3::from_fn(|i, j| m[i][j]);
+    let eig = mat.symmetric_eigen();
+    if eig.eigenvalues.iter().all(|&l| l >= 0.0) {
+        return m;
+    }
+    let mut out = [[0.0; 3]; 3];
+    for (l, v) in eig.eigenvalues.iter().zip(eig.eigenvectors.column_iter()) {
+        if *l > 0.0 {
+            for i in 0..3 {
+                for j in 0..3 {
+                    out[i][j] += l * v[i] * v[j];
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Index of `(i, j)`, `i ≤ j`, in a node block `[xx xy xz yy yz zz]`.
@@ -138,6 +166,7 @@ impl Contact {
             lambda_step_start: 0.0,
             active: vec![(0..n as u32).collect(); nt],
             reach,
+            punch_history: Vec::new(),
         }
     }
 
@@ -199,23 +228,34 @@ impl Contact {
         p: [f64; 3],
         r: &mut [f64],
         block: Option<&mut [f64; 6]>,
-    ) {
+    ) -> f64 {
+        let mut largest = 0.0f64;
         let motion = &self.tools[t];
         let tool = motion.at(lambda);
         let k = self.penalty[i];
         let dist = tool.distance(p);
         let mut local_k = [[0.0; 3]; 3];
         let want_k = block.is_some();
-        if dist.d < 0.0 {
+        // Touching counts as contact for the tangent (the force starts at zero), so a node lying
+        // on a tool is not left with no stiffness against it.
+        if dist.d <= 0.0 {
             let g = dist.d;
+            largest = largest.max(-k * g);
             for m in 0..3 {
                 r[3 * i + m] += k * g * dist.n[m];
             }
             if want_k {
                 let h = tool.curvature(p, self.reach);
+                let mut block = [[0.0; 3]; 3];
                 for a in 0..3 {
                     for b in 0..3 {
-                        local_k[a][b] += k * (dist.n[a] * dist.n[b] + g * h[a][b]);
+                        block[a][b] = k * (dist.n[a] * dist.n[b] + g * h[a][b]);
+                    }
+                }
+                let block = positive_part(block);
+                for a in 0..3 {
+                    for b in 0..3 {
+                        local_k[a][b] += block[a][b];
                     }
                 }
             }
@@ -243,6 +283,7 @@ impl Contact {
             let eps = self.options.slip_regularisation;
             let rho = (dot(s, s) + eps * eps).sqrt();
             let c = mu * normal_force;
+            largest = largest.max(c * dot(s, s).sqrt() / rho);
             for m in 0..3 {
                 r[3 * i + m] += c * s[m] / rho;
             }
@@ -262,6 +303,7 @@ impl Contact {
                 }
             }
         }
+        largest
     }
 }
 
@@ -306,23 +348,32 @@ impl super::solver::NodalTerms for Contact {
         x: &[[f64; 3]],
         r: &mut [f64],
         mut blocks: Option<&mut [[f64; 6]]>,
-    ) -> bool {
+    ) -> Option<f64> {
+        let mut largest = vec![0.0f64; x.len()];
         for t in 0..self.tools.len() {
             for &i in &self.active[t] {
                 let i = i as usize;
                 let blk = blocks.as_deref_mut().map(|b| &mut b[i]);
-                self.add_node_tool(i, t, lambda, x[i], r, blk);
+                let f = self.add_node_tool(i, t, lambda, x[i], r, blk);
+                largest[i] = largest[i].max(f);
             }
         }
         if let Some(h) = &self.holder {
             for i in 0..x.len() {
-                r[3 * i + 2] += h.pressure * self.area[i] * self.holder_weight[i];
+                let f = h.pressure * self.area[i] * self.holder_weight[i];
+                r[3 * i + 2] += f;
+                largest[i] = largest[i].max(f);
             }
         }
-        true
+        let scale = largest.iter().map(|f| f * f).sum::<f64>().sqrt();
+        scale.is_finite().then_some(scale)
     }
 
-    fn end_step(&mut self, lambda: f64, _x: &[[f64; 3]]) {
+    fn end_step(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        if !self.tools.is_empty() {
+            let f = self.tool_force(0, lambda, x)[2];
+            self.punch_history.push((lambda, f));
+        }
         self.lambda_step_start = lambda;
     }
 }

@@ -102,8 +102,6 @@ struct Yarn {
     t_l: f64,
 }
 
-const MAX_NEWTON: u32 = 40;
-
 impl CellLaw {
     pub fn new(p: CellParams) -> Self {
         let len0 = |a: usize| (p.l0[a] * p.l0[a] + 4.0 * p.e0[a] * p.e0[a]).sqrt();
@@ -163,8 +161,16 @@ impl CellLaw {
         // Both yarns slack somewhere in the admissible range: no tension, the crimp stays put.
         let h1_slack = self.slack_height(0, l[0]);
         let h1_min_for_2_slack = hh - self.slack_height(1, l[1]);
-        if h1_min_for_2_slack <= h1_slack {
-            let h1 = self.p.e0[0].clamp(h1_min_for_2_slack.max(0.0), h1_slack.min(hh));
+        // (With a tolerance of 1e-12 of the crimp height: round-off at zero strain must not make
+        // a yarn "taut" by 1e-16 and send the solve to its slow fallback.)
+        if h1_min_for_2_slack <= h1_slack + 1e-12 * hh {
+            let (lo, hi) = (h1_min_for_2_slack.max(0.0), h1_slack.min(hh));
+            // Within the tolerance the bounds may cross by round-off: take their middle then.
+            let h1 = if lo <= hi {
+                self.p.e0[0].clamp(lo, hi)
+            } else {
+                0.5 * (lo + hi)
+            };
             return CellResponse {
                 t: [0.0, 0.0],
                 dt: [[0.0; 2]; 2],
@@ -172,10 +178,9 @@ impl CellLaw {
                 iterations: 0,
             };
         }
-        let (crimp, iterations) = match self.newton(l, state) {
-            Some(r) => r,
-            None => (self.bracketed(l), MAX_NEWTON),
-        };
+        let (crimp, iterations) = self
+            .newton_2x2(l, state)
+            .unwrap_or_else(|| self.nested_newton(l, state));
         self.respond(l, crimp, iterations)
     }
 
@@ -186,7 +191,9 @@ impl CellLaw {
             return self.evaluate_linear(eps);
         }
         let l = [self.p.l0[0] * (1.0 + eps[0]), self.p.l0[1] * (1.0 + eps[1])];
-        if self.slack_height(0, l[0]) >= self.h_total - self.slack_height(1, l[1]) {
+        if self.slack_height(0, l[0]) + 1e-12 * self.h_total
+            >= self.h_total - self.slack_height(1, l[1])
+        {
             return self.evaluate(eps, self.initial_state());
         }
         let x = self.bracketed(l);
@@ -205,46 +212,126 @@ impl CellLaw {
         (r, j, y1, y2, e)
     }
 
-    /// Safeguarded Newton on `(h1, s)` from a warm start; `None` if it does not converge.
-    fn newton(&self, l: [f64; 2], start: CrimpState) -> Option<(CrimpState, u32)> {
+    /// The fast path: plain Newton on the 2×2 system from the warm start, projected on the
+    /// admissible set, at most 8 iterations; accepted only when both residuals are at round-off
+    /// level (the cell's energy is convex, so that point is the solution). `None` otherwise.
+    fn newton_2x2(&self, l: [f64; 2], start: CrimpState) -> Option<(CrimpState, u32)> {
         let hh = self.h_total;
         let a = self.p.a;
         let mut x = CrimpState {
-            h1: start.h1.clamp(0.0, hh),
             s: start.s.clamp(0.0, a),
+            h1: 0.0,
         };
-        if x.h1 > hh - x.s {
-            x.h1 = hh - x.s;
-        }
-        let v_scale = 1e-14 * (self.p.c[0] + self.p.c[1]) * hh;
-        for it in 1..=MAX_NEWTON {
-            let (r, j, ..) = self.system(l, x);
+        x.h1 = start.h1.clamp(0.0, hh - x.s);
+        for it in 0..8 {
+            let (r, j, y1, y2, _) = self.system(l, x);
+            let _ = (&y1, &y2);
             let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
             if !(det.is_finite() && det > 0.0) {
                 return None;
             }
             let dh = -(r[0] * j[1][1] - j[0][1] * r[1]) / det;
             let ds = -(j[0][0] * r[1] - j[1][0] * r[0]) / det;
-            // Damp the step so the iterate stays in the admissible set s ∈ [0, A), h1, h2 ≥ 0.
-            let mut tau = 1.0f64;
-            for _ in 0..60 {
-                let s = x.s + tau * ds;
-                let h1 = x.h1 + tau * dh;
-                if (0.0..=a).contains(&s) && h1 >= 0.0 && h1 <= hh - s {
-                    break;
-                }
-                tau *= 0.5;
-            }
-            x.h1 += tau * dh;
-            x.s += tau * ds;
-            x.s = x.s.clamp(0.0, a);
-            x.h1 = x.h1.clamp(0.0, hh - x.s);
-            let small_step = dh.abs() <= 1e-13 * hh && ds.abs() <= 1e-13 * a.max(1e-300);
-            if small_step || (r[0].abs() <= v_scale && r[1].abs() <= 1e-15 * a) {
-                return Some((x, it));
+            x.s = (x.s + ds).clamp(0.0, a);
+            x.h1 = (x.h1 + dh).clamp(0.0, hh - x.s);
+            // Converged once a full Newton correction is below 1e-12 of the heights (the
+            // residuals themselves bottom out at the round-off of V = 2Ch(1/ℓ0 − 1/ℓ)); with
+            // quadratic convergence the error left is far below that.
+            if dh.abs() <= 1e-12 * hh && ds.abs() <= 1e-12 * a.max(1e-300) && it > 0 {
+                return Some((x, it + 1));
             }
         }
         None
+    }
+
+    /// Vertical equilibrium for a given closure `s`: `V1(h1) = V2(H − s − h1)`, nondecreasing in
+    /// `h1` on `[0, H − s]`; Newton safeguarded by that bracket, from `guess`.
+    fn solve_h1(&self, l: [f64; 2], s: f64, guess: f64, v_tol: f64) -> (f64, u32) {
+        let hh = self.h_total;
+        let (mut lo, mut hi) = (0.0, hh - s);
+        let mut h = guess.clamp(lo, hi);
+        for it in 1..=100 {
+            let y1 = self.yarn(0, h, l[0]);
+            let y2 = self.yarn(1, hh - s - h, l[1]);
+            let f = y1.v - y2.v;
+            if f.abs() <= v_tol + 1e-14 * (y1.v + y2.v) {
+                return (h, it);
+            }
+            if f > 0.0 {
+                hi = h;
+            } else {
+                lo = h;
+            }
+            let df = y1.v_h + y2.v_h;
+            let mut next = if df > 0.0 { h - f / df } else { f64::NAN };
+            if !(next > lo && next < hi) {
+                next = 0.5 * (lo + hi);
+            }
+            if (next - h).abs() <= 1e-13 * hh || hi - lo <= 1e-15 * hh {
+                return (next, it);
+            }
+            h = next;
+        }
+        (h, 100)
+    }
+
+    /// The crimp state by nested safeguarded Newton solves, warm-started from `start`: the
+    /// closure equation `g(s) = s − A(1 − e^{−2B V1}) = 0` is increasing in `s` on `[0, A]`
+    /// (`g' = 1 + 2ABe V1h V2h/(V1h + V2h) ≥ 1`), and for each `s` the vertical equilibrium is
+    /// solved in `h1` (see [`CellLaw::solve_h1`]). Brackets make it unable to fail; Newton makes
+    /// it converge in a few steps from a warm start.
+    fn nested_newton(&self, l: [f64; 2], start: CrimpState) -> (CrimpState, u32) {
+        let hh = self.h_total;
+        let (a, b) = (self.p.a, self.p.b);
+        let v_tol = 1e-300;
+        let mut h1 = start.h1;
+        let mut iterations = 0;
+        let eval = |s: f64, h_guess: f64, its: &mut u32| -> (f64, f64, f64) {
+            let (h, n) = self.solve_h1(l, s, h_guess, v_tol);
+            *its += n;
+            let y1 = self.yarn(0, h, l[0]);
+            let y2 = self.yarn(1, hh - s - h, l[1]);
+            let e = (-2.0 * b * y1.v).exp();
+            let g = s - a * (1.0 - e);
+            let sum = y1.v_h + y2.v_h;
+            let dg = if sum > 0.0 {
+                1.0 + 2.0 * a * b * e * y1.v_h * y2.v_h / sum
+            } else {
+                1.0
+            };
+            (h, g, dg)
+        };
+        let (mut lo, mut hi) = (0.0, a);
+        let mut s = start.s.clamp(lo, hi);
+        for _ in 0..100 {
+            let (h, g, dg) = eval(s, h1, &mut iterations);
+            h1 = h;
+            if g.abs() <= 1e-15 * a || a == 0.0 {
+                break;
+            }
+            if g > 0.0 {
+                hi = s;
+            } else {
+                lo = s;
+            }
+            if g >= 0.0 && s == 0.0 {
+                break; // no compression: the closure stays 0
+            }
+            // Newton, kept strictly inside the bracket (a step onto an end could cycle between
+            // both ends of a kink), else bisection.
+            let mut next = s - g / dg;
+            if !(next > lo && next < hi) {
+                next = 0.5 * (lo + hi);
+            }
+            if (next - s).abs() <= 1e-13 * a || hi - lo <= 1e-15 * a {
+                s = next;
+                let (h, _, _) = eval(s, h1, &mut iterations);
+                h1 = h;
+                break;
+            }
+            s = next;
+        }
+        (CrimpState { h1, s }, iterations)
     }
 
     /// The robust fallback: nested bracketed solves, monotone in `h1` for a given closure, then

@@ -7,6 +7,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod contact;
+pub mod drawing;
 pub mod element;
 pub mod law;
 pub mod linear;

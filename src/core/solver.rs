@@ -21,15 +21,17 @@ pub trait NodalTerms: Sync {
     /// Called once at the start of each load step attempt, with the converged positions.
     fn begin_step(&mut self, _lambda: f64, _x: &[[f64; 3]]) {}
     /// Adds `∂(terms)/∂x` blocks (upper triangle of each node's 3×3: xx xy xz yy yz zz) when
-    /// `blocks` is given, and the forces to `r`. Returns false if the configuration is
-    /// inadmissible (the line search then shortens the step).
+    /// `blocks` is given, and the forces to `r`. Returns the magnitude of the forces added (the
+    /// norm over nodes of each node's largest single force, N: forces that cancel each other at
+    /// a node still count), or `None` if the configuration is inadmissible (the line search then
+    /// shortens the step).
     fn add(
         &self,
         lambda: f64,
         x: &[[f64; 3]],
         r: &mut [f64],
         blocks: Option<&mut [[f64; 6]]>,
-    ) -> bool;
+    ) -> Option<f64>;
     /// Called when a step is accepted.
     fn end_step(&mut self, _lambda: f64, _x: &[[f64; 3]]) {}
 }
@@ -38,8 +40,14 @@ pub trait NodalTerms: Sync {
 pub struct NoNodalTerms;
 
 impl NodalTerms for NoNodalTerms {
-    fn add(&self, _: f64, _: &[[f64; 3]], _: &mut [f64], _: Option<&mut [[f64; 6]]>) -> bool {
-        true
+    fn add(
+        &self,
+        _: f64,
+        _: &[[f64; 3]],
+        _: &mut [f64],
+        _: Option<&mut [[f64; 6]]>,
+    ) -> Option<f64> {
+        Some(0.0)
     }
 }
 
@@ -70,7 +78,7 @@ impl Prescribed for LinearPrescribed {
 }
 
 /// Solver settings.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SolverOptions {
     /// First load increment (fraction of the full load).
     pub initial_step: f64,
@@ -103,8 +111,8 @@ impl Default for SolverOptions {
             min_step: 1e-5,
             max_step: 0.25,
             max_iterations: 25,
-            tol_force: 1e-8,
-            tol_displacement: 1e-8,
+            tol_force: 1e-6,
+            tol_displacement: 1e-6,
             stabilisation: 1e-4,
             parallel: true,
             record_residuals: false,
@@ -518,9 +526,9 @@ impl<'a> Solver<'a> {
         let t1 = Instant::now();
         let x = m.positions();
         let mut f_terms = vec![0.0; ndof];
-        let admissible = if tangent {
+        let added = if tangent {
             self.blocks.iter_mut().for_each(|b| *b = [0.0; 6]);
-            let ok = terms.add(lambda, &x, &mut f_terms, Some(&mut self.blocks));
+            let added = terms.add(lambda, &x, &mut f_terms, Some(&mut self.blocks));
             for (nd, b) in self.blocks.iter().enumerate() {
                 for k in 0..6 {
                     let s = m.node_slots[nd][k];
@@ -529,11 +537,12 @@ impl<'a> Solver<'a> {
                     }
                 }
             }
-            ok
+            added
         } else {
             terms.add(lambda, &x, &mut f_terms, None)
         };
-        let terms_norm = norm2(&f_terms);
+        let admissible = added.is_some();
+        let terms_norm = added.unwrap_or(0.0);
         for (a, b) in f_all.iter_mut().zip(&f_terms) {
             *a += b;
         }
@@ -626,7 +635,16 @@ impl<'a> Solver<'a> {
             let rn = norm2(&a.r);
             history.push(rn);
             let tol_r = self.options.tol_force * a.scale + abs_floor;
-            if rn <= tol_r && (last_du <= tol_u || rn == 0.0) {
+            // The correction must also be small: against the element size, or against what the
+            // step has moved so far.
+            let step_move = self
+                .model
+                .u
+                .iter()
+                .zip(&self.u_step_start)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            let du_ok = last_du <= tol_u.max(1e-4 * step_move);
+            if rn <= tol_r && (du_ok || rn == 0.0) {
                 self.stats.mechanism = last_shift > 0.0;
                 return Ok(it);
             }
@@ -657,11 +675,14 @@ impl<'a> Solver<'a> {
                 last_shift = f64::MIN_POSITIVE;
             }
             self.stats.newton_iterations += 1;
-            // Backtracking line search on the residual norm.
+            // Backtracking line search on φ(α) = ½|r(α)|², φ'(0) = −|r|² for a Newton step:
+            // the next trial minimises the quadratic through φ(0), φ'(0) and φ(α), kept within
+            // [0.05 α, 0.5 α].
+            let phi0 = 0.5 * rn * rn;
             let mut alpha = 1.0;
             let mut best = (f64::INFINITY, 0.0);
             let mut accepted = false;
-            for _ in 0..10 {
+            for _ in 0..16 {
                 self.add_free(&du, alpha);
                 let trial = self.assemble(lambda, terms, false);
                 let tn = if trial.admissible {
@@ -677,7 +698,13 @@ impl<'a> Solver<'a> {
                     accepted = true;
                     break;
                 }
-                alpha *= 0.5;
+                let phi = 0.5 * tn * tn;
+                let next = if phi.is_finite() {
+                    alpha * alpha * phi0 / (2.0 * (phi - phi0 + alpha * phi0 * 2.0))
+                } else {
+                    0.05 * alpha
+                };
+                alpha = next.clamp(0.05 * alpha, 0.5 * alpha);
             }
             if !accepted {
                 if best.0.is_finite() && best.0 < 10.0 * rn {
@@ -777,6 +804,38 @@ impl<'a> Solver<'a> {
                     }
                 }
                 Err(cause) => {
+                    if std::env::var("WF_DEBUG").is_ok() {
+                        let a = self.assemble(target, &*terms, false);
+                        let mut idx: Vec<usize> = (0..a.r.len()).collect();
+                        idx.sort_by(|&i, &j| a.r[j].abs().total_cmp(&a.r[i].abs()));
+                        let x = self.model.positions();
+                        for &q in idx.iter().take(4) {
+                            let d = self.model.eq.iter().position(|&e| e == q).unwrap();
+                            let nd = d / 3;
+                            let e0 = self
+                                .model
+                                .mesh
+                                .quads
+                                .iter()
+                                .position(|qq| qq.contains(&nd))
+                                .unwrap();
+                            eprintln!(
+                                "  dof {d} (node {nd} comp {}) r={:.3e} x={:?} x0={:?} T={:?}",
+                                d % 3,
+                                a.r[q],
+                                x[nd],
+                                self.model.mesh.nodes[nd],
+                                self.model.outputs[e0].tension
+                            );
+                        }
+                        eprintln!(
+                            "FAIL at {lambda} step {step}: {cause} hist {:?}",
+                            history
+                                .iter()
+                                .map(|v| format!("{v:.2e}"))
+                                .collect::<Vec<_>>()
+                        );
+                    }
                     self.model.u = u_start;
                     self.model.crimp = crimp_start;
                     self.stats.cutbacks += 1;

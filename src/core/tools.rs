@@ -28,47 +28,47 @@ struct Plan {
     g: [f64; 2],
 }
 
-/// A rounded rectangle centred at the origin: half sides `hx, hy`, corner radius `r`; inside the
-/// inner rectangle the distance is smoothed over a width `k` so its level sets deeper than `r`
-/// have no crease (only used where a nose ball of radius larger than `r` must roll around it).
+/// A rounded rectangle centred at the origin: half sides `hx, hy`, corner radius `r`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RoundedRect {
     pub hx: f64,
     pub hy: f64,
     pub r: f64,
-    pub smoothing: f64,
 }
 
 impl RoundedRect {
-    fn plan(&self, x: f64, y: f64) -> Plan {
+    /// The signed distance at `(x, y)` for a corner radius `r` (which may differ from `self.r`),
+    /// its gradient and its derivative with respect to `r`.
+    fn plan_with_radius(&self, x: f64, y: f64, r: f64) -> (Plan, f64) {
         let (sx, sy) = (sign(x), sign(y));
-        let qx = x.abs() - (self.hx - self.r);
-        let qy = y.abs() - (self.hy - self.r);
+        let qx = x.abs() - (self.hx - r);
+        let qy = y.abs() - (self.hy - r);
         if qx > 0.0 && qy > 0.0 {
             let l = (qx * qx + qy * qy).sqrt();
-            return Plan {
-                d: l - self.r,
-                g: [sx * qx / l, sy * qy / l],
-            };
+            return (
+                Plan {
+                    d: l - r,
+                    g: [sx * qx / l, sy * qy / l],
+                },
+                (qx + qy) / l - 1.0,
+            );
         }
-        if qx <= 0.0 && qy <= 0.0 && self.smoothing > 0.0 {
-            let (m, gm) = smooth_max(qx, qy, self.smoothing);
-            return Plan {
-                d: m - self.r,
-                g: [sx * gm[0], sy * gm[1]],
-            };
-        }
-        if qx >= qy {
+        let plan = if qx >= qy {
             Plan {
-                d: qx - self.r,
+                d: qx - r,
                 g: [sx, 0.0],
             }
         } else {
             Plan {
-                d: qy - self.r,
+                d: qy - r,
                 g: [0.0, sy],
             }
-        }
+        };
+        (plan, 0.0)
+    }
+
+    fn plan(&self, x: f64, y: f64) -> Plan {
+        self.plan_with_radius(x, y, self.r).0
     }
 }
 
@@ -93,33 +93,6 @@ impl OffsetEllipse {
 
 fn sign(v: f64) -> f64 {
     if v < 0.0 { -1.0 } else { 1.0 }
-}
-
-/// A C1 maximum of `a, b` whose blending width fades to zero as the maximum approaches zero
-/// from below (so it joins the exact distance continuously at the inner rectangle's edge).
-fn smooth_max(a: f64, b: f64, k0: f64) -> (f64, [f64; 2]) {
-    let (m, dm) = if a >= b {
-        (a, [1.0, 0.0])
-    } else {
-        (b, [0.0, 1.0])
-    };
-    let den = m * m + k0 * k0;
-    let k = k0 * m * m / den;
-    let dk_dm = 2.0 * k0.powi(3) * m / (den * den);
-    let delta = (a - b).abs();
-    if k <= 0.0 || delta >= k {
-        return (m, dm);
-    }
-    let sd = if a >= b { [1.0, -1.0] } else { [-1.0, 1.0] };
-    let w = k - delta;
-    let value = m + w * w / (4.0 * k);
-    // ∂/∂a of m + (k − δ)²/(4k) with k = k(m(a, b)).
-    let mut g = [0.0; 2];
-    for i in 0..2 {
-        let ka = dk_dm * dm[i];
-        g[i] = dm[i] + w * (ka - sd[i]) / (2.0 * k) - w * w * ka / (4.0 * k * k);
-    }
-    (value, g)
 }
 
 /// Signed distance from `(x, y)` to the ellipse `x²/a² + y²/b² = 1` and its gradient.
@@ -236,7 +209,6 @@ impl Tool {
                 hx: 0.5 * side[0],
                 hy: 0.5 * side[1],
                 r,
-                smoothing: 2.0 * (rp - r).max(0.0),
             }),
             nose_radius: rp,
             tip,
@@ -251,7 +223,6 @@ impl Tool {
                 hx: 0.5 * side[0] + clearance,
                 hy: 0.5 * side[1] + clearance,
                 r: r + clearance,
-                smoothing: 0.0,
             }),
             entry_radius: rm,
         }
@@ -309,15 +280,9 @@ impl Tool {
                 nose_radius,
                 tip,
             } => {
-                let pl = plan.plan(p[0], p[1]);
+                let (d, g) = punch_plan(&plan, nose_radius, tip, p);
                 // Region {plan ≤ 0} ∩ {z ≥ tip}: f2 = tip − z.
-                rounded_intersection(
-                    pl.d,
-                    [pl.g[0], pl.g[1], 0.0],
-                    tip - p[2],
-                    [0.0, 0.0, -1.0],
-                    nose_radius,
-                )
+                rounded_intersection(d, g, tip - p[2], [0.0, 0.0, -1.0], nose_radius)
             }
             Tool::Die {
                 opening,
@@ -363,6 +328,36 @@ impl Tool {
             }
         }
         hess
+    }
+}
+
+/// The plan field of a flat punch at `p` and its 3D gradient.
+///
+/// A nose ball of radius `rp` cannot roll around a plan corner of smaller radius `r` without
+/// reaching the corner arc's centre, where the plan distance is singular. As a tool maker's
+/// variable-radius corner blend does, the plan corner radius is `r` above the nose and grows
+/// smoothly (C1 in height) to `1.05 rp` at the tip when `r < 1.05 rp`; everywhere else the field
+/// is the exact distance.
+fn punch_plan(plan: &PlanShape, rp: f64, tip: f64, p: [f64; 3]) -> (f64, [f64; 3]) {
+    match plan {
+        PlanShape::RoundedRect(rect) if rect.r < 1.05 * rp => {
+            let t = ((tip + rp - p[2]) / rp).clamp(0.0, 1.0);
+            let s = t * t * (3.0 - 2.0 * t);
+            let ds_dz = if t > 0.0 && t < 1.0 {
+                -6.0 * t * (1.0 - t) / rp
+            } else {
+                0.0
+            };
+            let r_top = rect.r;
+            let r_tip = 1.05 * rp;
+            let r = r_top + (r_tip - r_top) * s;
+            let (pl, dd_dr) = rect.plan_with_radius(p[0], p[1], r);
+            (pl.d, [pl.g[0], pl.g[1], dd_dr * (r_tip - r_top) * ds_dz])
+        }
+        _ => {
+            let pl = plan.plan(p[0], p[1]);
+            (pl.d, [pl.g[0], pl.g[1], 0.0])
+        }
     }
 }
 

@@ -1,3 +1,8 @@
-//! Reports: charts (PNG), tables (CSV) and the paper's figures reproduced from the law.
+//! Reports: charts (PNG), tables (CSV) and the paper's figures reproduced from the law; the
+//! maps, VTU file and summary of a drawing run.
 pub mod figure6;
+pub mod maps;
+pub mod mirror;
 pub mod plot;
+pub mod summary;
+pub mod vtu;

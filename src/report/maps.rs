@@ -1,0 +1,595 @@
+//! PNG maps of a drawing: the deformed blank seen from above (the x–y projection of the final
+//! positions, each element a filled quad) coloured by a field — the shear angle against the
+//! locking angle, or the largest yarn tension against the breaking tension.
+//!
+//! The full blank is drawn even when a quarter was solved (mirrored about x = 0 and y = 0). The
+//! colour scale runs from 0 to the limit and a little past it (or to the largest value, if
+//! that is higher): pale to dark blue below the limit, one saturated magenta above it, and the
+//! cells over the limit are outlined in black, so they cannot be missed. The colour bar marks
+//! the limit with a line and its value; the die opening is drawn dashed.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::mirror::{PlanQuad, mirror_quads};
+use super::plot::{register_fonts, tick_label};
+use crate::core::drawing::{DrawingResult, Tooling};
+
+/// The colour of every value over the limit.
+pub const OVER_LIMIT: (u8, u8, u8) = (230, 0, 150);
+
+/// The scale below the limit: ColorBrewer YlGnBu, pale yellow (0) to dark blue (the limit).
+const SCALE: [(u8, u8, u8); 9] = [
+    (255, 255, 217),
+    (237, 248, 177),
+    (199, 233, 180),
+    (127, 205, 187),
+    (65, 182, 196),
+    (29, 145, 192),
+    (34, 94, 168),
+    (37, 52, 148),
+    (8, 29, 88),
+];
+
+/// The colour of `value` on a scale whose limit is `limit`: the sequential scale below it,
+/// [`OVER_LIMIT`] above it.
+pub fn colour_of(value: f64, limit: f64) -> (u8, u8, u8) {
+    if value > limit {
+        return OVER_LIMIT;
+    }
+    let t = if limit > 0.0 {
+        (value / limit).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let s = t * (SCALE.len() - 1) as f64;
+    let i = (s.floor() as usize).min(SCALE.len() - 2);
+    let f = s - i as f64;
+    let mix = |a: u8, b: u8| (a as f64 + f * (b as f64 - a as f64)).round() as u8;
+    let (a, b) = (SCALE[i], SCALE[i + 1]);
+    (mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// A map ready to draw: plan quads of the full blank, one value per quad, and the limit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FieldMap {
+    /// First title line (scene, figure, verdict).
+    pub title: String,
+    /// Second title line (what is shown).
+    pub subtitle: String,
+    pub quads: Vec<PlanQuad>,
+    /// One value per quad, ≥ 0.
+    pub values: Vec<f64>,
+    /// The design limit (locking angle, breaking tension).
+    pub limit: f64,
+    /// Short name of the limit on the colour bar, e.g. "locking angle".
+    pub limit_name: String,
+    /// Caption of the colour bar with its unit, e.g. "shear (°)".
+    pub bar_caption: String,
+    /// Formats a value with its unit, e.g. `33.6°` or `78 N`.
+    pub unit: Unit,
+    /// Where the largest value is (plan, mm), marked on the map.
+    pub max_at: Option<[f64; 2]>,
+    /// The die opening in plan, a closed polyline (mm); empty for none.
+    pub die_opening: Vec<[f64; 2]>,
+    /// Image size in pixels.
+    pub size: (u32, u32),
+}
+
+/// How values are written on a map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unit {
+    Degrees,
+    Newtons,
+}
+
+impl Unit {
+    pub fn show(self, v: f64) -> String {
+        let s = match self {
+            Unit::Degrees => format!("{v:.1}°"),
+            Unit::Newtons if v.abs() >= 100.0 => format!("{v:.0} N"),
+            Unit::Newtons => format!("{v:.1} N"),
+        };
+        s.replace(".0°", "°").replace(".0 N", " N")
+    }
+}
+
+/// What the maps of one run share: the scene's name, the verdict, the tools.
+#[derive(Clone, Debug)]
+pub struct MapContext<'a> {
+    pub scene: &'a str,
+    /// The verdict in a few words, e.g. "FEASIBLE" or "INFEASIBLE: shear over the limit".
+    pub verdict: &'a str,
+    pub tooling: Tooling,
+    /// The stroke asked for, mm.
+    pub stroke_mm: f64,
+}
+
+/// The plan quads of the solved part, final positions.
+pub fn plan_quads(result: &DrawingResult) -> Vec<PlanQuad> {
+    result
+        .mesh
+        .quads
+        .iter()
+        .map(|q| q.map(|n| [result.positions[n][0], result.positions[n][1]]))
+        .collect()
+}
+
+/// The quads and values of the full blank (mirrored when a quarter was solved).
+fn full_blank(result: &DrawingResult, values: &[f64]) -> (Vec<PlanQuad>, Vec<f64>) {
+    let quads = plan_quads(result);
+    if result.quarter {
+        mirror_quads(&quads, values)
+    } else {
+        (quads, values.to_vec())
+    }
+}
+
+fn what_is_drawn(result: &DrawingResult, ctx: &MapContext) -> String {
+    let part = if result.quarter {
+        "full blank (the solved quarter mirrored)"
+    } else {
+        "full blank"
+    };
+    let stroke = if result.converged {
+        format!("stroke {:.1} mm", result.stroke_reached_mm)
+    } else {
+        format!(
+            "stopped at stroke {:.1} of {:.1} mm",
+            result.stroke_reached_mm, ctx.stroke_mm
+        )
+    };
+    format!("deformed blank seen from above, {part}, {stroke}; dashed: die opening")
+}
+
+/// The map of the shear angle (|change of the angle between the yarns|, degrees).
+pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f64) -> FieldMap {
+    let values: Vec<f64> = result.shear_deg.iter().map(|s| s.abs()).collect();
+    let (e, max) = result.max_shear();
+    let (quads, values) = full_blank(result, &values);
+    let c = result.element_centre(e);
+    FieldMap {
+        title: format!(
+            "{}: max shear {} (locking {}) — {}",
+            ctx.scene,
+            Unit::Degrees.show(max),
+            Unit::Degrees.show(locking_angle_deg),
+            ctx.verdict
+        ),
+        subtitle: format!("Shear angle of the yarns: {}", what_is_drawn(result, ctx)),
+        quads,
+        values,
+        limit: locking_angle_deg,
+        limit_name: "locking angle".into(),
+        bar_caption: "shear (°)".into(),
+        unit: Unit::Degrees,
+        max_at: (!result.shear_deg.is_empty()).then_some([c[0], c[1]]),
+        die_opening: die_opening_outline(&ctx.tooling),
+        size: (1100, 900),
+    }
+}
+
+/// The map of the largest yarn tension of each element (N per yarn).
+pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f64) -> FieldMap {
+    let values = &result.tension_max_n;
+    let (e, max) = values
+        .iter()
+        .enumerate()
+        .fold((0, 0.0), |a, (i, &v)| if v > a.1 { (i, v) } else { a });
+    let (quads, values) = full_blank(result, values);
+    let c = result.element_centre(e);
+    FieldMap {
+        title: format!(
+            "{}: max yarn tension {} ({:.0} % of the break) — {}",
+            ctx.scene,
+            Unit::Newtons.show(max),
+            100.0 * max / break_tension_n,
+            ctx.verdict
+        ),
+        subtitle: format!("Largest yarn tension: {}", what_is_drawn(result, ctx)),
+        quads,
+        values,
+        limit: break_tension_n,
+        limit_name: "break tension".into(),
+        bar_caption: "tension (N)".into(),
+        unit: Unit::Newtons,
+        max_at: (max > 0.0).then_some([c[0], c[1]]),
+        die_opening: die_opening_outline(&ctx.tooling),
+        size: (1100, 900),
+    }
+}
+
+/// The die opening in plan as a closed polyline, mm.
+pub fn die_opening_outline(tooling: &Tooling) -> Vec<[f64; 2]> {
+    const N: usize = 24; // points per quarter turn
+    let half = tooling.opening_half();
+    let mut pts = Vec::with_capacity(4 * N + 1);
+    match *tooling {
+        Tooling::Box { r, clearance, .. } => {
+            let rc = (r + clearance).min(half[0]).min(half[1]);
+            let centres = [
+                [half[0] - rc, half[1] - rc],
+                [-(half[0] - rc), half[1] - rc],
+                [-(half[0] - rc), -(half[1] - rc)],
+                [half[0] - rc, -(half[1] - rc)],
+            ];
+            for (k, c) in centres.iter().enumerate() {
+                for i in 0..=N {
+                    let t = (k as f64 + i as f64 / N as f64) * std::f64::consts::FRAC_PI_2;
+                    pts.push([c[0] + rc * t.cos(), c[1] + rc * t.sin()]);
+                }
+            }
+        }
+        Tooling::Ellipsoid {
+            axes, clearance, ..
+        } => {
+            let (a, b) = (axes[0], axes[1]);
+            for i in 0..4 * N {
+                let t = i as f64 / (4 * N) as f64 * std::f64::consts::TAU;
+                let (c, s) = (t.cos(), t.sin());
+                let n = [b * c, a * s];
+                let l = (n[0] * n[0] + n[1] * n[1]).sqrt();
+                pts.push([a * c + clearance * n[0] / l, b * s + clearance * n[1] / l]);
+            }
+        }
+        Tooling::Hemisphere { .. } => {
+            for i in 0..4 * N {
+                let t = i as f64 / (4 * N) as f64 * std::f64::consts::TAU;
+                pts.push([half[0] * t.cos(), half[1] * t.sin()]);
+            }
+        }
+    }
+    if let Some(&first) = pts.first() {
+        pts.push(first);
+    }
+    pts
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+impl FieldMap {
+    /// The top of the colour scale: a little past the limit, or the largest value.
+    pub fn scale_top(&self) -> f64 {
+        let max = self.values.iter().cloned().fold(0.0, f64::max);
+        (1.1 * self.limit).max(max)
+    }
+
+    /// Draws the map to a PNG file. Errors name the file.
+    pub fn write_png(&self, path: &Path) -> Result<(), String> {
+        register_fonts();
+        let fail =
+            |e: &dyn std::fmt::Display| format!("{}: cannot draw the map: {e}", path.display());
+        let root = BitMapBackend::new(path, self.size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(&e))?;
+        self.draw(&root).map_err(|e| fail(&e))?;
+        root.present().map_err(|e| fail(&e))?;
+        Ok(())
+    }
+
+    fn draw(&self, root: &Area) -> Result<(), String> {
+        let err = |e: &dyn std::fmt::Display| e.to_string();
+        let font = "sans-serif";
+        let (w, _) = self.size;
+        let (top, body) = root.split_vertically(86);
+        // Each title line at the largest size (up to its nominal one) that fits the width.
+        let line = |text: &str, y: i32, size: u32, bold: bool, colour: RGBColor| {
+            let style_at = |size: u32| {
+                let f = (font, size).into_font();
+                let f = if bold { f.style(FontStyle::Bold) } else { f };
+                f.color(&colour).pos(Pos::new(HPos::Center, VPos::Top))
+            };
+            let mut size = size;
+            while size > 10 {
+                match top.estimate_text_size(text, &style_at(size)) {
+                    Ok((tw, _)) if tw + 24 > w => size -= 1,
+                    _ => break,
+                }
+            }
+            top.draw(&Text::new(
+                text.to_string(),
+                (w as i32 / 2, y),
+                style_at(size),
+            ))
+        };
+        line(&self.title, 14, 26, true, BLACK).map_err(|e| err(&e))?;
+        line(&self.subtitle, 54, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
+        let bar_width = 250;
+        let (map_area, bar_area) = body.split_horizontally(w - bar_width);
+        let plot_rows = self.draw_map(&map_area)?;
+        self.draw_bar(root, &bar_area, plot_rows)?;
+        Ok(())
+    }
+
+    /// The data range: the blank and the die opening with a margin, widened along one axis
+    /// so that a millimetre is as long across as up on a plot area of `px × py` pixels.
+    fn ranges(&self, px: u32, py: u32) -> ((f64, f64), (f64, f64)) {
+        let (mut x0, mut x1, mut y0, mut y1) = (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        );
+        for p in self.quads.iter().flatten().chain(&self.die_opening) {
+            if p[0].is_finite() && p[1].is_finite() {
+                x0 = x0.min(p[0]);
+                x1 = x1.max(p[0]);
+                y0 = y0.min(p[1]);
+                y1 = y1.max(p[1]);
+            }
+        }
+        if !(x0 < x1 && y0 < y1) {
+            return ((-1.0, 1.0), (-1.0, 1.0));
+        }
+        let pad = 0.03 * (x1 - x0).max(y1 - y0);
+        let (x0, x1, y0, y1) = (x0 - pad, x1 + pad, y0 - pad, y1 + pad);
+        let per_px = ((x1 - x0) / px.max(1) as f64).max((y1 - y0) / py.max(1) as f64);
+        let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+        let (hx, hy) = (0.5 * per_px * px as f64, 0.5 * per_px * py as f64);
+        ((cx - hx, cx + hx), (cy - hy, cy + hy))
+    }
+
+    /// Draws the blank; returns the plot area's pixel rows (top, bottom) for the colour bar.
+    fn draw_map(&self, area: &Area) -> Result<(i32, i32), String> {
+        let err = |e: &dyn std::fmt::Display| e.to_string();
+        let font = "sans-serif";
+        let builder = |x: (f64, f64), y: (f64, f64)| {
+            ChartBuilder::on(area)
+                .margin(18)
+                .x_label_area_size(55)
+                .y_label_area_size(70)
+                .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        };
+        // Build once to learn the plot area's size, then again with equal scales.
+        let probe = builder((0.0, 1.0), (0.0, 1.0)).map_err(|e| err(&e))?;
+        let (px, py) = probe.plotting_area().dim_in_pixel();
+        let (xr, yr) = self.ranges(px, py);
+        let mut chart = builder(xr, yr).map_err(|e| err(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("x (mm)")
+            .y_desc("y (mm)")
+            .axis_desc_style((font, 20))
+            .label_style((font, 16))
+            .x_label_formatter(&|v| tick_label(*v))
+            .y_label_formatter(&|v| tick_label(*v))
+            .disable_mesh()
+            .draw()
+            .map_err(|e| err(&e))?;
+        let rgb = |c: (u8, u8, u8)| RGBColor(c.0, c.1, c.2);
+        let poly = |q: &PlanQuad| -> Vec<(f64, f64)> { q.iter().map(|p| (p[0], p[1])).collect() };
+        chart
+            .draw_series(
+                self.quads
+                    .iter()
+                    .zip(&self.values)
+                    .map(|(q, &v)| Polygon::new(poly(q), rgb(colour_of(v, self.limit)).filled())),
+            )
+            .map_err(|e| err(&e))?;
+        // The element edges, faint: they are the yarns, and show the shear by themselves.
+        let edge = ShapeStyle::from(BLACK.mix(0.12)).stroke_width(1);
+        chart
+            .draw_series(self.quads.iter().map(|q| {
+                let mut p = poly(q);
+                p.push(p[0]);
+                PathElement::new(p, edge)
+            }))
+            .map_err(|e| err(&e))?;
+        if !self.die_opening.is_empty() {
+            let pts: Vec<(f64, f64)> = self.die_opening.iter().map(|p| (p[0], p[1])).collect();
+            chart
+                .draw_series(DashedLineSeries::new(
+                    pts,
+                    9,
+                    6,
+                    ShapeStyle::from(RGBColor(90, 90, 90)).stroke_width(2),
+                ))
+                .map_err(|e| err(&e))?;
+        }
+        // Over the limit: outlined in black on top of everything else.
+        let outline = ShapeStyle::from(BLACK).stroke_width(2);
+        chart
+            .draw_series(
+                self.quads
+                    .iter()
+                    .zip(&self.values)
+                    .filter(|(_, v)| **v > self.limit)
+                    .map(|(q, _)| {
+                        let mut p = poly(q);
+                        p.push(p[0]);
+                        PathElement::new(p, outline)
+                    }),
+            )
+            .map_err(|e| err(&e))?;
+        if let Some(at) = self.max_at {
+            let max = self.values.iter().cloned().fold(0.0, f64::max);
+            let style = ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3);
+            let label = format!("max {}", self.unit.show(max));
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at((at[0], at[1]))
+                        + Circle::new((0, 0), 9, style)
+                        + Rectangle::new(
+                            [(10, -29), (16 + 11 * label.chars().count() as i32, -5)],
+                            ShapeStyle::from(WHITE.mix(0.85)).filled(),
+                        )
+                        + Text::new(
+                            label,
+                            (12, -26),
+                            (font, 18).into_font().style(FontStyle::Bold).color(&BLACK),
+                        ),
+                ))
+                .map_err(|e| err(&e))?;
+        }
+        let (_, rows) = chart.plotting_area().get_pixel_range();
+        Ok((rows.start, rows.end))
+    }
+
+    /// The colour bar, aligned with the map's plot rows; the limit marked with a line.
+    fn draw_bar(&self, root: &Area, area: &Area, rows: (i32, i32)) -> Result<(), String> {
+        let err = |e: &dyn std::fmt::Display| e.to_string();
+        let font = "sans-serif";
+        let top = self.scale_top();
+        let (area_rows, _) = (area.get_pixel_range().1, ());
+        let margin_top = (rows.0 - area_rows.start).max(0) as u32;
+        let margin_bottom = (area_rows.end - rows.1).max(0) as u32;
+        let mut chart = ChartBuilder::on(area)
+            .margin_top(margin_top)
+            .margin_bottom(margin_bottom)
+            .margin_left(10)
+            .margin_right(150)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..1.0, 0.0..top)
+            .map_err(|e| err(&e))?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .label_style((font, 16))
+            .y_label_formatter(&|v| tick_label(*v))
+            .y_labels(8)
+            .draw()
+            .map_err(|e| err(&e))?;
+        const BANDS: usize = 300;
+        let rgb = |c: (u8, u8, u8)| RGBColor(c.0, c.1, c.2);
+        chart
+            .draw_series((0..BANDS).map(|i| {
+                let (a, b) = (
+                    top * i as f64 / BANDS as f64,
+                    top * (i + 1) as f64 / BANDS as f64,
+                );
+                let v = 0.5 * (a + b);
+                Rectangle::new([(0.0, a), (1.0, b)], rgb(colour_of(v, self.limit)).filled())
+            }))
+            .map_err(|e| err(&e))?;
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(0.0, 0.0), (1.0, top)],
+                ShapeStyle::from(BLACK).stroke_width(1),
+            )))
+            .map_err(|e| err(&e))?;
+        // The limit: a thick line across the bar and beyond, with its name and value.
+        let (x0, y_limit) = chart.backend_coord(&(0.0, self.limit));
+        let (x1, _) = chart.backend_coord(&(1.0, self.limit));
+        let line = ShapeStyle::from(BLACK).stroke_width(3);
+        root.draw(&PathElement::new(
+            vec![(x0 - 8, y_limit), (x1 + 12, y_limit)],
+            line,
+        ))
+        .map_err(|e| err(&e))?;
+        let text = |s: String, y: i32, bold: bool| {
+            let f = (font, 17).into_font();
+            let f = if bold { f.style(FontStyle::Bold) } else { f };
+            Text::new(
+                s,
+                (x1 + 16, y),
+                f.color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center)),
+            )
+        };
+        root.draw(&text(self.limit_name.clone(), y_limit + 14, true))
+            .map_err(|e| err(&e))?;
+        root.draw(&text(self.unit.show(self.limit), y_limit + 35, true))
+            .map_err(|e| err(&e))?;
+        // Over the limit: say what the magenta means.
+        let (_, y_top) = chart.backend_coord(&(1.0, top));
+        if y_limit - y_top > 24 {
+            root.draw(&text("over the limit".into(), (y_top + y_limit) / 2, false))
+                .map_err(|e| err(&e))?;
+        }
+        // The largest value, unless it would sit on the limit's label.
+        let max = self.values.iter().cloned().fold(0.0, f64::max);
+        let (_, y_max) = chart.backend_coord(&(1.0, max));
+        root.draw(&PathElement::new(
+            vec![(x1 - 10, y_max), (x1 + 6, y_max)],
+            ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3),
+        ))
+        .map_err(|e| err(&e))?;
+        if y_max < y_limit - 24 || y_max > y_limit + 50 {
+            root.draw(&text(format!("max {}", self.unit.show(max)), y_max, false))
+                .map_err(|e| err(&e))?;
+        }
+        // The caption above the bar.
+        root.draw(&Text::new(
+            self.bar_caption.clone(),
+            ((x0 + x1) / 2, y_top - 12),
+            (font, 18)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Bottom)),
+        ))
+        .map_err(|e| err(&e))?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colours_run_pale_to_dark_then_magenta() {
+        let lum = |c: (u8, u8, u8)| 0.3 * c.0 as f64 + 0.59 * c.1 as f64 + 0.11 * c.2 as f64;
+        let mut last = f64::INFINITY;
+        for i in 0..=20 {
+            let c = colour_of(60.0 * i as f64 / 20.0, 60.0);
+            assert_ne!(c, OVER_LIMIT);
+            assert!(lum(c) <= last + 1e-9, "not darker at step {i}");
+            last = lum(c);
+        }
+        assert_eq!(colour_of(60.01, 60.0), OVER_LIMIT);
+        assert_eq!(colour_of(0.0, 60.0), SCALE[0]);
+        assert_eq!(colour_of(60.0, 60.0), SCALE[8]);
+    }
+
+    #[test]
+    fn die_outlines_close_and_span_the_opening() {
+        for tooling in [
+            Tooling::Box {
+                side: [60.0, 40.0],
+                r: 10.0,
+                rp: 5.0,
+                rm: 5.0,
+                clearance: 1.5,
+            },
+            Tooling::Ellipsoid {
+                axes: [40.0, 25.0, 20.0],
+                rm: 5.0,
+                clearance: 1.5,
+            },
+            Tooling::Hemisphere {
+                radius: 30.0,
+                rm: 5.0,
+                clearance: 1.5,
+            },
+        ] {
+            let pts = die_opening_outline(&tooling);
+            assert_eq!(pts.first(), pts.last());
+            let half = tooling.opening_half();
+            let xmax = pts.iter().map(|p| p[0]).fold(f64::MIN, f64::max);
+            let ymin = pts.iter().map(|p| p[1]).fold(f64::MAX, f64::min);
+            assert!((xmax - half[0]).abs() < 1e-9, "{tooling:?}: {xmax}");
+            assert!((ymin + half[1]).abs() < 1e-9, "{tooling:?}: {ymin}");
+        }
+    }
+
+    #[test]
+    fn equal_scales_on_both_axes() {
+        let map = FieldMap {
+            title: String::new(),
+            subtitle: String::new(),
+            quads: vec![[[-70.0, -50.0], [70.0, -50.0], [70.0, 50.0], [-70.0, 50.0]]],
+            values: vec![1.0],
+            limit: 2.0,
+            limit_name: String::new(),
+            bar_caption: String::new(),
+            unit: Unit::Degrees,
+            max_at: None,
+            die_opening: Vec::new(),
+            size: (100, 100),
+        };
+        let ((x0, x1), (y0, y1)) = map.ranges(700, 600);
+        assert!(((x1 - x0) / 700.0 - (y1 - y0) / 600.0).abs() < 1e-12);
+        assert!(x0 < -70.0 && x1 > 70.0 && y0 < -50.0 && y1 > 50.0);
+    }
+}

@@ -1,0 +1,184 @@
+//! Bad scenes given to `wovenform run`: exit code 2 before any solving, and a message on
+//! stderr that names the file (or the `--set`), the key and what was expected.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn wovenform(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wovenform"))
+        .args(args)
+        .output()
+        .expect("the wovenform binary runs")
+}
+
+fn preset(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("presets")
+        .join(name)
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+/// Runs `run SCENE args…` and checks exit code 2, nothing on stdout, and every word on stderr.
+fn assert_rejected(scene: &str, args: &[&str], must_name: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = wovenform(&[&["run", scene, "--out", out.to_str().unwrap()][..], args].concat());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: stderr: {err}");
+    assert!(o.stdout.is_empty(), "{args:?}: printed a result");
+    assert!(!out.exists(), "{args:?}: wrote files");
+    for word in must_name {
+        assert!(
+            err.contains(word),
+            "{args:?}: stderr does not name `{word}`: {err}"
+        );
+    }
+}
+
+/// A scene file in a temporary folder (kept alive by the returned guard).
+fn scene_file(text: &str) -> (tempfile::TempDir, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let s = path.to_str().unwrap().to_string();
+    (dir, s)
+}
+
+#[test]
+fn bad_toml_names_the_file_and_line() {
+    let (_d, f) = scene_file("[tools]\nr = 5\nrp = = 6\n");
+    assert_rejected(&f, &[], &[&f, "not valid TOML", "line 3"]);
+}
+
+#[test]
+fn unknown_keys_and_sections_are_named() {
+    let (_d, f) = scene_file("[tools]\nr = 5\nnose = 6\n");
+    assert_rejected(&f, &[], &[&f, "tools.nose", "unknown key", "rp"]);
+    let (_d, f) = scene_file("[tooling]\nr = 5\n");
+    assert_rejected(&f, &[], &[&f, "tooling", "unknown section"]);
+    let open = preset("paper-box-open.toml");
+    assert_rejected(
+        &open,
+        &["--set", "process.speed=3"],
+        &["--set process.speed=3", "process.speed", "unknown key"],
+    );
+}
+
+#[test]
+fn negative_radius() {
+    let (_d, f) = scene_file("[tools]\nr = -2\n");
+    assert_rejected(
+        &f,
+        &[],
+        &[
+            &f,
+            "tools.r = -2",
+            "expected a punch corner radius r > 0 mm",
+        ],
+    );
+    let open = preset("paper-box-open.toml");
+    assert_rejected(
+        &open,
+        &["--set", "tools.rm=-1"],
+        &["--set tools.rm=-1", "tools.rm = -1", "> 0 mm"],
+    );
+    let hemi = preset("hemisphere.toml");
+    assert_rejected(&hemi, &["--set", "tools.radius=-30"], &["tools.radius"]);
+}
+
+#[test]
+fn rp_larger_than_the_punch_allows() {
+    let open = preset("paper-box-open.toml");
+    assert_rejected(
+        &open,
+        &["--set", "tools.rp=35"],
+        &[
+            "--set tools.rp=35",
+            "tools.rp = 35",
+            "rp larger than the punch allows",
+            "side/2 = 30 mm",
+        ],
+    );
+    assert_rejected(
+        &open,
+        &["--set", "tools.r=30"],
+        &["tools.r = 30", "r larger than the punch allows"],
+    );
+}
+
+#[test]
+fn blank_barely_larger_than_the_die_opening() {
+    let open = preset("paper-box-open.toml");
+    // Opening 63 mm, rm 10 mm: the blank needs more than 83 mm.
+    assert_rejected(
+        &open,
+        &["--set", "blank.size=[140,80]"],
+        &[
+            "--set blank.size=[140,80]",
+            "blank.size = [140, 80]",
+            "blank barely larger than the die opening",
+            "[83, 83] mm",
+        ],
+    );
+    let (_d, f) = scene_file("[tools]\nkind = \"hemisphere\"\nradius = 30\n[blank]\nsize = 70\n");
+    assert_rejected(&f, &[], &[&f, "barely larger than the die opening"]);
+}
+
+#[test]
+fn friction_and_process_bounds() {
+    let open = preset("paper-box-open.toml");
+    assert_rejected(
+        &open,
+        &["--set", "process.friction=-0.1"],
+        &[
+            "process.friction = -0.1",
+            "friction coefficient μ in [0, 1]",
+        ],
+    );
+    assert_rejected(
+        &open,
+        &["--set", "process.holder_pressure=80"],
+        &["process.holder_pressure = 80", "[0, 50] MPa"],
+    );
+    assert_rejected(
+        &open,
+        &["--set", "process.stroke=0"],
+        &["process.stroke = 0", "> 0 mm"],
+    );
+    assert_rejected(
+        &open,
+        &["--set", "mesh.element_size=50"],
+        &["mesh.element_size = 50", "blank/4 = 35 mm"],
+    );
+    let ellipsoid = preset("paper-ellipsoid.toml");
+    assert_rejected(
+        &ellipsoid,
+        &["--set", "process.stroke=25"],
+        &["process.stroke = 25", "az = 20 mm"],
+    );
+}
+
+#[test]
+fn wrong_types_and_kinds() {
+    let open = preset("paper-box-open.toml");
+    assert_rejected(
+        &open,
+        &["--set", "tools.kind=\"cone\""],
+        &["tools.kind", "box", "ellipsoid", "hemisphere"],
+    );
+    assert_rejected(&open, &["--set", "tools.r=\"big\""], &["tools.r"]);
+    assert_rejected(
+        &open,
+        &["--set", "tools.axes=[30,20,10]"],
+        &["tools.axes", "only for tools.kind = \"ellipsoid\""],
+    );
+    assert_rejected(
+        &open,
+        &["--set", "tools.r=oops"],
+        &["tools.r", "TOML literal"],
+    );
+    let missing = "/nonexistent-wovenform/scene.toml";
+    assert_rejected(missing, &[], &[missing, "cannot read"]);
+}

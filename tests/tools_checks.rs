@@ -1,0 +1,218 @@
+#![allow(clippy::needless_range_loop)]
+//! The rigid tools against closed forms (distances to faces, spheres and tori of known radius)
+//! and finite differences (normal = gradient of the distance, continuity of the normal).
+
+use wovenform::core::tools::Tool;
+
+struct Lcg(u64);
+impl Lcg {
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+    }
+}
+
+fn tools() -> Vec<(&'static str, Tool)> {
+    vec![
+        (
+            "box punch r>rp",
+            Tool::box_punch([60.0, 60.0], 10.0, 6.0, -3.0),
+        ),
+        (
+            "box punch r<rp",
+            Tool::box_punch([60.0, 60.0], 5.0, 6.0, -3.0),
+        ),
+        (
+            "box punch r<<rp",
+            Tool::box_punch([60.0, 50.0], 10.0, 15.0, 0.0),
+        ),
+        ("box die", Tool::box_die([60.0, 60.0], 5.0, 1.5, 5.0)),
+        (
+            "ellipsoid punch",
+            Tool::EllipsoidPunch {
+                axes: [40.0, 25.0, 20.0],
+                tip: -2.0,
+            },
+        ),
+        (
+            "sphere punch",
+            Tool::EllipsoidPunch {
+                axes: [30.0; 3],
+                tip: 0.0,
+            },
+        ),
+        ("elliptic die", Tool::elliptic_die([40.0, 25.0], 1.5, 5.0)),
+    ]
+}
+
+#[test]
+fn normal_is_the_unit_gradient_of_the_distance() {
+    let mut g = Lcg(1);
+    for (name, tool) in tools() {
+        let mut checked = 0;
+        for _ in 0..4000 {
+            let p = [
+                g.range(-50.0, 50.0),
+                g.range(-50.0, 50.0),
+                g.range(-25.0, 10.0),
+            ];
+            let d = tool.distance(p);
+            if d.d.abs() > 3.0 {
+                continue;
+            }
+            // The normal is exactly the gradient of the distance field; the field is an exact
+            // distance (|∇d| = 1) except in the variable-radius corner blend of a punch whose
+            // nose radius exceeds its corner radius.
+            let n2: f64 = d.n.iter().map(|v| v * v).sum();
+            let blended = name.contains("r<");
+            let tol = if blended { 0.21 } else { 1e-9 }; // |n| within 10% in the blend
+            assert!((n2 - 1.0).abs() < tol, "{name}: |n|² = {n2} at {p:?}");
+            let h = 1e-6;
+            let mut fd = [0.0; 3];
+            for m in 0..3 {
+                let mut pp = p;
+                let mut pm = p;
+                pp[m] += h;
+                pm[m] -= h;
+                fd[m] = (tool.distance(pp).d - tool.distance(pm).d) / (2.0 * h);
+            }
+            let err = (0..3).map(|m| (fd[m] - d.n[m]).abs()).fold(0.0, f64::max);
+            assert!(
+                err < 1e-5,
+                "{name}: gradient {fd:?} vs normal {:?} at {p:?}",
+                d.n
+            );
+            checked += 1;
+        }
+        assert!(
+            checked > 100,
+            "{name}: only {checked} points near the surface"
+        );
+    }
+}
+
+#[test]
+fn normal_is_continuous_near_the_surface() {
+    // C1: the normal changes by O(step) between close points, everywhere near the surface.
+    let mut g = Lcg(2);
+    for (name, tool) in tools() {
+        for _ in 0..20000 {
+            let p = [
+                g.range(-50.0, 50.0),
+                g.range(-50.0, 50.0),
+                g.range(-25.0, 10.0),
+            ];
+            let d = tool.distance(p);
+            if d.d.abs() > 1.0 {
+                continue;
+            }
+            let q = [
+                p[0] + g.range(-1e-4, 1e-4),
+                p[1] + g.range(-1e-4, 1e-4),
+                p[2] + g.range(-1e-4, 1e-4),
+            ];
+            let e = tool.distance(q);
+            let jump = (0..3).map(|m| (d.n[m] - e.n[m]).abs()).fold(0.0, f64::max);
+            assert!(
+                jump < 1e-2,
+                "{name}: normal jumps by {jump} between {p:?} and {q:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn normal_is_continuous_across_the_corner_diagonal_and_the_arc_centre() {
+    // Where creases would hide: the diagonal through the plan corner and the corner arc's
+    // centre, on the nose, for punches with r < rp and r > rp.
+    for (name, tool) in tools()
+        .into_iter()
+        .filter(|(n, _)| n.starts_with("box punch"))
+    {
+        for k in 0..2000 {
+            let depth = -3.0 + 20.0 * k as f64 / 2000.0;
+            for along in [15.0, 17.5, 20.0, 22.0, 24.0, 25.0, 26.0, 28.0, 30.0, 32.0] {
+                let p = [along + 1e-7, along - 1e-7, depth];
+                let q = [along - 1e-7, along + 1e-7, depth];
+                let (a, b) = (tool.distance(p), tool.distance(q));
+                if a.d.abs() > 2.0 {
+                    continue;
+                }
+                let jump = (0..3).map(|m| (a.n[m] - b.n[m]).abs()).fold(0.0, f64::max);
+                assert!(
+                    jump < 1e-4,
+                    "{name}: normal jumps by {jump} across the diagonal at {p:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn closed_form_distances() {
+    let punch = Tool::box_punch([60.0, 60.0], 10.0, 6.0, -3.0);
+    // Below the flat nose: the distance to the plane z = −3.
+    let d = punch.distance([0.0, 0.0, -5.0]);
+    assert!((d.d - 2.0).abs() < 1e-12 && (d.n[2] + 1.0).abs() < 1e-12);
+    // Beside a side wall, above the nose: distance to the plane x = 30.
+    let d = punch.distance([32.0, 0.0, 20.0]);
+    assert!((d.d - 2.0).abs() < 1e-12 && (d.n[0] - 1.0).abs() < 1e-12);
+    // On the nose torus along the x axis: centre line at x = 24, z = 3; radius 6.
+    let t = std::f64::consts::FRAC_PI_4;
+    let p = [24.0 + 8.0 * t.cos(), 0.0, 3.0 - 8.0 * t.sin()];
+    assert!((punch.distance(p).d - 2.0).abs() < 1e-12);
+    // Plan corner of the side wall: radius 10 about (20, 20).
+    let p = [20.0 + 12.0 * t.cos(), 20.0 + 12.0 * t.sin(), 30.0];
+    assert!((punch.distance(p).d - 2.0).abs() < 1e-12);
+    // Die: on the face, on the entry torus, in the opening wall.
+    let die = Tool::box_die([60.0, 60.0], 5.0, 1.5, 5.0);
+    assert!((die.distance([60.0, 0.0, 1.0]).d - 1.0).abs() < 1e-12);
+    let p = [31.5 + 5.0 - 7.0 * t.cos(), 0.0, -5.0 + 7.0 * t.sin()];
+    assert!(
+        (die.distance(p).d - 2.0).abs() < 1e-12,
+        "{}",
+        die.distance(p).d
+    );
+    assert!((die.distance([30.0, 0.0, -20.0]).d - 1.5).abs() < 1e-12);
+    // Sphere of radius 30 with its lowest point at z = 0.
+    let sphere = Tool::EllipsoidPunch {
+        axes: [30.0; 3],
+        tip: 0.0,
+    };
+    let p = [10.0, -20.0, 30.0 - 5.0];
+    let r = (100.0f64 + 400.0 + 25.0).sqrt();
+    assert!((sphere.distance(p).d - (r - 30.0)).abs() < 1e-9);
+    // Ellipsoid: on an axis the distance is the gap to the vertex.
+    let ell = Tool::EllipsoidPunch {
+        axes: [40.0, 25.0, 20.0],
+        tip: 0.0,
+    };
+    assert!((ell.distance([0.0, 0.0, -3.0]).d - 3.0).abs() < 1e-9);
+    assert!((ell.distance([45.0, 0.0, 20.0]).d - 5.0).abs() < 1e-9);
+}
+
+#[test]
+fn curvature_of_the_nose_and_the_sphere() {
+    // On a sphere of radius R, ∂n/∂x at the surface = (I − n nᵀ)/R.
+    let sphere = Tool::EllipsoidPunch {
+        axes: [30.0; 3],
+        tip: 0.0,
+    };
+    let h = sphere.curvature([0.0, 0.0, 0.0], 1.0);
+    assert!((h[0][0] - 1.0 / 30.0).abs() < 1e-6 && (h[1][1] - 1.0 / 30.0).abs() < 1e-6);
+    assert!(h[2][2].abs() < 1e-6);
+    // On the nose torus at its lowest-outward point along x, the profile curvature is 1/rp.
+    let punch = Tool::box_punch([60.0, 60.0], 10.0, 6.0, 0.0);
+    let t = std::f64::consts::FRAC_PI_4;
+    let p = [24.0 + 6.0 * t.cos(), 0.0, 6.0 - 6.0 * t.sin()];
+    let h = punch.curvature(p, 1.0);
+    // Profile direction in the x–z plane, tangent to the circle.
+    let tdir = [t.sin(), 0.0, t.cos()];
+    let k: f64 = (0..3)
+        .map(|i| (0..3).map(|j| tdir[i] * h[i][j] * tdir[j]).sum::<f64>())
+        .sum();
+    assert!((k - 1.0 / 6.0).abs() < 1e-5, "profile curvature {k}");
+}
