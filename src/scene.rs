@@ -1206,7 +1206,7 @@ mod tests {
             ("process.friction=1.5", "process.friction"),
             ("process.holder_pressure=51", "process.holder_pressure"),
             ("process.stroke=0", "process.stroke"),
-            ("mesh.element_size=40", "mesh.element_size"),
+            ("mesh.element_size=50", "mesh.element_size"),
             ("mesh.element_size=0", "mesh.element_size"),
             ("tools.clearance=-1", "tools.clearance"),
             ("tools.rm=0", "tools.rm"),
@@ -1242,7 +1242,11 @@ mod tests {
         // Switching the kind with --set lets the file's box keys pass.
         let s = parse(
             "[tools]\nr = 5\nrp = 6\n",
-            &["tools.kind=\"hemisphere\"", "tools.radius=20"],
+            &[
+                "tools.kind=\"hemisphere\"",
+                "tools.radius=20",
+                "process.stroke=15",
+            ],
         )
         .unwrap();
         assert_eq!(s.tools.kind, ToolKind::Hemisphere);

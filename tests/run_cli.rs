@@ -28,7 +28,15 @@ fn text(b: &[u8]) -> String {
 }
 
 /// Coarse and short: the open box at 5 mm elements and 4 mm of stroke.
-const QUICK: [&str; 4] = ["--set", "mesh.element_size=5", "--set", "process.stroke=4"];
+/// A coarse, shallow run on a 140 mm blank (the sizes below are counted from it).
+const QUICK: [&str; 6] = [
+    "--set",
+    "mesh.element_size=5",
+    "--set",
+    "process.stroke=4",
+    "--set",
+    "blank.size=140",
+];
 
 fn run_json(dir: &Path, extra: &[&str]) -> (Output, Map<String, Value>) {
     let open = preset("paper-box-open.toml");

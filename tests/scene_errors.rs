@@ -150,7 +150,7 @@ fn friction_and_process_bounds() {
     assert_rejected(
         &open,
         &["--set", "mesh.element_size=50"],
-        &["mesh.element_size = 50", "blank/4 = 35 mm"],
+        &["mesh.element_size = 50", "blank/4 = 42.5 mm"],
     );
     let ellipsoid = preset("paper-ellipsoid.toml");
     assert_rejected(

@@ -95,6 +95,9 @@ pub struct Contact {
     lag: Vec<Lag>,
     holder_weight: Vec<f64>,
     x_step_start: Vec<[f64; 3]>,
+    /// Per node and tool, the friction anchor's offset from the node at the step start (the
+    /// elastic slip carried over, in the tool's frame), mm.
+    carried_slip: Vec<[f64; 3]>,
     lambda_step_start: f64,
     /// Nodes within reach of each tool at the step start (the rest are skipped).
     active: Vec<Vec<u32>>,
@@ -163,6 +166,7 @@ impl Contact {
             lag: vec![Lag::default(); n * nt],
             holder_weight: vec![0.0; n],
             x_step_start: vec![[0.0; 3]; n],
+            carried_slip: vec![[0.0; 3]; n * nt],
             lambda_step_start: 0.0,
             active: vec![(0..n as u32).collect(); nt],
             reach,
@@ -276,7 +280,12 @@ impl Contact {
                 0.0
             };
             let x0 = self.x_step_start[i];
-            let rel = [p[0] - x0[0], p[1] - x0[1], p[2] - x0[2] - dz];
+            let c0 = self.carried_slip[t * self.area.len() + i];
+            let rel = [
+                p[0] - x0[0] + c0[0],
+                p[1] - x0[1] + c0[1],
+                p[2] - x0[2] - dz + c0[2],
+            ];
             let n = lag.normal;
             let rn = dot(rel, n);
             let s = [rel[0] - rn * n[0], rel[1] - rn * n[1], rel[2] - rn * n[2]];
@@ -369,7 +378,102 @@ impl super::solver::NodalTerms for Contact {
         scale.is_finite().then_some(scale)
     }
 
+    fn energy(&self, lambda: f64, x: &[[f64; 3]]) -> f64 {
+        let n = x.len();
+        let mut e = 0.0;
+        for t in 0..self.tools.len() {
+            let motion = self.tools[t];
+            let tool = motion.at(lambda);
+            let dz = if motion.tool.is_punch() {
+                motion.tip(lambda) - motion.tip(self.lambda_step_start)
+            } else {
+                0.0
+            };
+            for &i in &self.active[t] {
+                let i = i as usize;
+                let d = tool.distance(x[i]).d;
+                if d < 0.0 {
+                    e += 0.5 * self.penalty[i] * d * d;
+                }
+                let lag = self.lag[t * n + i];
+                let mut normal_force = lag.normal_force;
+                if !tool.is_punch()
+                    && let Some(h) = &self.holder
+                {
+                    normal_force += h.pressure * self.area[i] * self.holder_weight[i];
+                }
+                let mu = self.options.friction;
+                if mu > 0.0 && normal_force > 0.0 {
+                    let x0 = self.x_step_start[i];
+                    let c0 = self.carried_slip[t * n + i];
+                    let rel = [
+                        x[i][0] - x0[0] + c0[0],
+                        x[i][1] - x0[1] + c0[1],
+                        x[i][2] - x0[2] - dz + c0[2],
+                    ];
+                    let nn = lag.normal;
+                    let rn = dot(rel, nn);
+                    let sl = [
+                        rel[0] - rn * nn[0],
+                        rel[1] - rn * nn[1],
+                        rel[2] - rn * nn[2],
+                    ];
+                    let eps = self.options.slip_regularisation;
+                    e += mu * normal_force * ((dot(sl, sl) + eps * eps).sqrt() - eps);
+                }
+            }
+        }
+        if let Some(h) = &self.holder {
+            for i in 0..n {
+                e += h.pressure * self.area[i] * self.holder_weight[i] * x[i][2];
+            }
+        }
+        e
+    }
+
     fn end_step(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        // Carry the slip over: a node that slid keeps its anchor 10ε behind it along the slip, so
+        // continued sliding starts the next step at 99.5 % of μN instead of climbing the
+        // regularisation again (the anchor of elasto-plastic friction).
+        let n = x.len();
+        let eps = self.options.slip_regularisation;
+        for t in 0..self.tools.len() {
+            let motion = self.tools[t];
+            let dz = if motion.tool.is_punch() {
+                motion.tip(lambda) - motion.tip(self.lambda_step_start)
+            } else {
+                0.0
+            };
+            for i in 0..n {
+                let lag = self.lag[t * n + i];
+                let k = t * n + i;
+                if lag.normal_force <= 0.0 && (t != 1 || self.holder_weight[i] <= 0.0) {
+                    self.carried_slip[k] = [0.0; 3];
+                    continue;
+                }
+                let x0 = self.x_step_start[i];
+                let c0 = self.carried_slip[k];
+                let rel = [
+                    x[i][0] - x0[0] + c0[0],
+                    x[i][1] - x0[1] + c0[1],
+                    x[i][2] - x0[2] - dz + c0[2],
+                ];
+                let nn = lag.normal;
+                let rn = dot(rel, nn);
+                let sl = [
+                    rel[0] - rn * nn[0],
+                    rel[1] - rn * nn[1],
+                    rel[2] - rn * nn[2],
+                ];
+                let len = dot(sl, sl).sqrt();
+                let keep = (10.0 * eps).min(len);
+                self.carried_slip[k] = if len > 0.0 {
+                    [sl[0] * keep / len, sl[1] * keep / len, sl[2] * keep / len]
+                } else {
+                    [0.0; 3]
+                };
+            }
+        }
         if !self.tools.is_empty() {
             let f = self.tool_force(0, lambda, x)[2];
             self.punch_history.push((lambda, f));

@@ -236,10 +236,10 @@ impl DrawingProblem {
                 rm,
                 clearance: 1.5,
             },
-            blank: [140.0, 140.0],
+            blank: [170.0, 170.0],
             friction: 0.2,
             holder_pressure: 1.0,
-            stroke: 20.0,
+            stroke: 28.0,
             element_size: 2.5,
             symmetry: Symmetry::Auto,
             solver: SolverOptions::default(),
@@ -259,8 +259,8 @@ impl DrawingProblem {
     }
 }
 
-/// Tributary area and cell count of each node (a quarter of each element's).
-fn node_shares(model: &Model) -> (Vec<f64>, Vec<f64>) {
+/// Tributary area (mm²) and cell count of each node (a quarter of each element's).
+pub fn node_shares(model: &Model) -> (Vec<f64>, Vec<f64>) {
     let n = model.mesh.nodes.len();
     let mut area = vec![0.0; n];
     let mut cells = vec![0.0; n];

@@ -423,7 +423,9 @@ impl CellLaw {
             iterations: 0,
         };
         for a in 0..2 {
-            if eps[a] > 0.0 {
+            // At exactly zero strain the taut side's slope is the tangent: an unstrained yarn
+            // (the initial state) resists stretching, and the solver must see it.
+            if eps[a] >= 0.0 {
                 r.t[a] = self.p.c[a] * eps[a];
                 r.dt[a][a] = self.p.c[a];
             }

@@ -32,6 +32,11 @@ pub trait NodalTerms: Sync {
         r: &mut [f64],
         blocks: Option<&mut [[f64; 6]]>,
     ) -> Option<f64>;
+    /// The potential of the terms at `x` (N·mm), whose gradient is what `add` adds: the line
+    /// search's merit. Terms without a potential return 0 (the residual norm then decides).
+    fn energy(&self, _lambda: f64, _x: &[[f64; 3]]) -> f64 {
+        0.0
+    }
     /// Called when a step is accepted.
     fn end_step(&mut self, _lambda: f64, _x: &[[f64; 3]]) {}
 }
@@ -102,6 +107,8 @@ pub struct SolverOptions {
     /// state with the viscous reference moved to the current state, so the viscous force decays
     /// wherever the fabric's tension holds the nodes.
     pub relaxation_passes: u32,
+    /// Levenberg–Marquardt damping at the start of each step (times the cells' stiffness).
+    pub initial_damping: f64,
 }
 
 impl Default for SolverOptions {
@@ -117,6 +124,7 @@ impl Default for SolverOptions {
             parallel: true,
             record_residuals: false,
             relaxation_passes: 3,
+            initial_damping: 0.0,
         }
     }
 }
@@ -165,7 +173,8 @@ pub struct SolveStats {
     pub law_iterations: u64,
     /// Solves that needed a diagonal shift (non-positive-definite tangent).
     pub shifted_solves: u32,
-    /// The tangent was singular at the last converged iteration: the state is a mechanism.
+    /// A solve met a singular tangent during the run: part of the blank was a mechanism
+    /// (zero-stiffness trellising or slack yarns) held only by the stabilisation, or by nothing.
     pub mechanism: bool,
     /// Residual norms of each Newton iteration, per accepted step (if recorded).
     pub residuals: Vec<Vec<f64>>,
@@ -438,6 +447,8 @@ impl Model {
 struct Assembled {
     /// Residual over the free dofs.
     r: Vec<f64>,
+    /// Total potential: stored energy, stabilisation and nodal terms, N·mm.
+    energy: f64,
     /// Load scale: the largest of the internal, nodal-term and stabilisation force norms, N.
     scale: f64,
     admissible: bool,
@@ -451,6 +462,11 @@ pub struct Solver<'a> {
     values: Vec<f64>,
     blocks: Vec<[f64; 6]>,
     u_step_start: Vec<f64>,
+    /// Levenberg–Marquardt damping `λ` added as `λ D` to the tangent for the step only (D: the
+    /// cells' stiffness at each node), so nodes that nothing holds yet take short steps instead
+    /// of freezing the whole step in the line search. It never enters the residual, so the
+    /// converged state is the same; it decays to 0 while full steps are accepted.
+    damping: f64,
 }
 
 impl<'a> Solver<'a> {
@@ -465,6 +481,7 @@ impl<'a> Solver<'a> {
             values: vec![0.0; nnz],
             blocks: vec![[0.0; 6]; nn],
             u_step_start: u0,
+            damping: 0.0,
         }
     }
 
@@ -547,6 +564,15 @@ impl<'a> Solver<'a> {
             *a += b;
         }
         self.stats.nodal_s += t1.elapsed().as_secs_f64();
+        let mut energy = m.stored_energy() + terms.energy(lambda, &x);
+        if kappa > 0.0 {
+            for (nd, mu) in m.viscosity.iter().enumerate() {
+                for c in 0..3 {
+                    let d = 3 * nd + c;
+                    energy += 0.5 * kappa * mu * (m.u[d] - self.u_step_start[d]).powi(2);
+                }
+            }
+        }
         let mut r = vec![0.0; m.free_dofs()];
         for (d, &q) in m.eq.iter().enumerate() {
             if q != usize::MAX {
@@ -556,6 +582,7 @@ impl<'a> Solver<'a> {
         let finite = r.iter().all(|v| v.is_finite());
         Assembled {
             r,
+            energy,
             scale: internal_norm.max(terms_norm).max(stab_norm2.sqrt()),
             admissible: admissible && finite,
         }
@@ -624,9 +651,13 @@ impl<'a> Solver<'a> {
         singular: &mut bool,
     ) -> Result<u32, String> {
         let tol_u = self.options.tol_displacement * self.model.element_size;
-        let abs_floor = 1e-12 * (self.model.law.p.c[0] + self.model.law.p.c[1]);
+        // An absolute floor: a yarn force of 1e-8 C (a strain of 1e-8), for problems whose forces
+        // are all nearly zero (a free, slack blank).
+        let abs_floor = 1e-8 * 0.5 * (self.model.law.p.c[0] + self.model.law.p.c[1]);
         let mut last_du = f64::INFINITY;
         let mut last_shift = 0.0;
+        // Each step starts damped (its first iteration meets the punch's new position).
+        self.damping = self.damping.max(self.options.initial_damping);
         for it in 0..=self.options.max_iterations {
             let a = self.assemble(lambda, terms, true);
             if !a.admissible {
@@ -645,13 +676,28 @@ impl<'a> Solver<'a> {
                 .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
             let du_ok = last_du <= tol_u.max(1e-4 * step_move);
             if rn <= tol_r && (du_ok || rn == 0.0) {
-                self.stats.mechanism = last_shift > 0.0;
+                // Sticky: once a solve met a singular tangent, part of the blank was a mechanism
+                // (held only by the stabilisation, or by nothing without it).
+                if *singular || last_shift > 0.0 {
+                    self.stats.mechanism = true;
+                }
                 return Ok(it);
             }
             if it == self.options.max_iterations {
                 break;
             }
             let mut du: Vec<f64> = a.r.iter().map(|v| -v).collect();
+            if self.damping > 0.0 {
+                let m = &*self.model;
+                for (nd, d) in m.viscosity.iter().enumerate() {
+                    for k in [0, 3, 5] {
+                        let s = m.node_slots[nd][k];
+                        if s != u32::MAX {
+                            self.values[s as usize] += self.damping * d;
+                        }
+                    }
+                }
+            }
             let t0 = Instant::now();
             let info = self
                 .model
@@ -675,36 +721,44 @@ impl<'a> Solver<'a> {
                 last_shift = f64::MIN_POSITIVE;
             }
             self.stats.newton_iterations += 1;
-            // Backtracking line search on φ(α) = ½|r(α)|², φ'(0) = −|r|² for a Newton step:
-            // the next trial minimises the quadratic through φ(0), φ'(0) and φ(α), kept within
-            // [0.05 α, 0.5 α].
-            let phi0 = 0.5 * rn * rn;
+            // Backtracking line search. The problem has a potential Π (stored energy, contact
+            // penalty, friction potential, holder work, stabilisation) and the tangent is positive
+            // definite, so the Newton step descends Π: accept α when Π satisfies Armijo,
+            // Π(α) ≤ Π(0) + 1e-4 α r·du, or when the residual norm falls (which decides near
+            // convergence, where Π is all round-off). Trial lengths minimise the quadratic through
+            // Π(0), Π'(0) and Π(α), within [0.05 α, 0.5 α].
+            let slope: f64 = a.r.iter().zip(&du).map(|(r, d)| r * d).sum();
+            let pi0 = a.energy;
             let mut alpha = 1.0;
             let mut best = (f64::INFINITY, 0.0);
             let mut accepted = false;
             for _ in 0..16 {
                 self.add_free(&du, alpha);
                 let trial = self.assemble(lambda, terms, false);
-                let tn = if trial.admissible {
-                    norm2(&trial.r)
-                } else {
-                    f64::INFINITY
-                };
                 self.add_free(&du, -alpha);
+                let (tn, pi) = if trial.admissible {
+                    (norm2(&trial.r), trial.energy)
+                } else {
+                    (f64::INFINITY, f64::INFINITY)
+                };
                 if tn < best.0 {
                     best = (tn, alpha);
                 }
-                if tn <= (1.0 - 1e-4 * alpha) * rn || tn <= tol_r {
+                let armijo = slope < 0.0 && pi <= pi0 + 1e-4 * alpha * slope;
+                if armijo || tn <= (1.0 - 1e-4 * alpha) * rn || tn <= tol_r {
                     accepted = true;
                     break;
                 }
-                let phi = 0.5 * tn * tn;
-                let next = if phi.is_finite() {
-                    alpha * alpha * phi0 / (2.0 * (phi - phi0 + alpha * phi0 * 2.0))
+                let next = if pi.is_finite() && slope < 0.0 {
+                    -slope * alpha * alpha / (2.0 * (pi - pi0 - slope * alpha))
                 } else {
                     0.05 * alpha
                 };
-                alpha = next.clamp(0.05 * alpha, 0.5 * alpha);
+                alpha = if next.is_finite() {
+                    next.clamp(0.05 * alpha, 0.5 * alpha)
+                } else {
+                    0.5 * alpha
+                };
             }
             if !accepted {
                 if best.0.is_finite() && best.0 < 10.0 * rn {
@@ -714,6 +768,16 @@ impl<'a> Solver<'a> {
                         "the line search found no acceptable point (residual {rn:.3e} N)"
                     ));
                 }
+            }
+            // Adapt the damping: more after a hard cut, less (down to none) after full steps.
+            if alpha >= 0.999 {
+                self.damping = if self.damping < 1e-6 {
+                    0.0
+                } else {
+                    0.1 * self.damping
+                };
+            } else if alpha < 0.1 {
+                self.damping = (10.0 * self.damping).clamp(1e-4, 1e2);
             }
             self.add_free(&du, alpha);
             last_du = alpha * norm_inf(&du);
@@ -804,38 +868,6 @@ impl<'a> Solver<'a> {
                     }
                 }
                 Err(cause) => {
-                    if std::env::var("WF_DEBUG").is_ok() {
-                        let a = self.assemble(target, &*terms, false);
-                        let mut idx: Vec<usize> = (0..a.r.len()).collect();
-                        idx.sort_by(|&i, &j| a.r[j].abs().total_cmp(&a.r[i].abs()));
-                        let x = self.model.positions();
-                        for &q in idx.iter().take(4) {
-                            let d = self.model.eq.iter().position(|&e| e == q).unwrap();
-                            let nd = d / 3;
-                            let e0 = self
-                                .model
-                                .mesh
-                                .quads
-                                .iter()
-                                .position(|qq| qq.contains(&nd))
-                                .unwrap();
-                            eprintln!(
-                                "  dof {d} (node {nd} comp {}) r={:.3e} x={:?} x0={:?} T={:?}",
-                                d % 3,
-                                a.r[q],
-                                x[nd],
-                                self.model.mesh.nodes[nd],
-                                self.model.outputs[e0].tension
-                            );
-                        }
-                        eprintln!(
-                            "FAIL at {lambda} step {step}: {cause} hist {:?}",
-                            history
-                                .iter()
-                                .map(|v| format!("{v:.2e}"))
-                                .collect::<Vec<_>>()
-                        );
-                    }
                     self.model.u = u_start;
                     self.model.crimp = crimp_start;
                     self.stats.cutbacks += 1;

@@ -1,0 +1,321 @@
+#![allow(clippy::needless_range_loop)]
+//! Contact, friction and the blank holder against closed forms, and the drawing's consistency
+//! checks (penetration, symmetry, a free blank needs no force).
+//!
+//! ```text
+//!   capstan: a strip wrapped over the die's entry radius (θ = π/2), a dead load T_in on the
+//!   flange end, the wall end pulled down:            T_out / T_in = exp(μ θ)
+//!
+//!        T_in ←──────────╮  die face z = 0
+//!                        │  entry radius rm
+//!                        ↓  T_out (pulled)
+//!
+//!   pull-out: a strip under the holder pressure p on the flange, pulled out: F = 2 μ p S
+//! ```
+
+use wovenform::core::contact::{Contact, ContactOptions, Holder, ToolMotion};
+use wovenform::core::drawing::{self, DrawingProblem, Symmetry, node_shares};
+use wovenform::core::law::{CellLaw, CellParams};
+use wovenform::core::mesh::Mesh;
+use wovenform::core::solver::{LinearPrescribed, Model, NodalTerms, Solver, SolverOptions};
+use wovenform::core::tools::Tool;
+
+/// Contact plus dead loads on some nodes (force per node, N), ramped in over the first quarter
+/// of the load path.
+struct WithDeadLoad {
+    contact: Contact,
+    loads: Vec<(usize, [f64; 3])>,
+}
+
+fn ramp(lambda: f64) -> f64 {
+    (lambda / 0.25).min(1.0)
+}
+
+impl NodalTerms for WithDeadLoad {
+    fn begin_step(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        self.contact.begin_step(lambda, x);
+    }
+    fn add(
+        &self,
+        lambda: f64,
+        x: &[[f64; 3]],
+        r: &mut [f64],
+        blocks: Option<&mut [[f64; 6]]>,
+    ) -> Option<f64> {
+        let scale = self.contact.add(lambda, x, r, blocks)?;
+        let mut largest = scale;
+        for (n, f) in &self.loads {
+            for m in 0..3 {
+                r[3 * n + m] -= ramp(lambda) * f[m];
+            }
+            largest = largest.max((f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt());
+        }
+        Some(largest)
+    }
+    fn energy(&self, lambda: f64, x: &[[f64; 3]]) -> f64 {
+        let mut e = self.contact.energy(lambda, x);
+        for (n, f) in &self.loads {
+            e -= ramp(lambda) * (f[0] * x[*n][0] + f[1] * x[*n][1] + f[2] * x[*n][2]);
+        }
+        e
+    }
+    fn end_step(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        self.contact.end_step(lambda, x);
+    }
+}
+
+/// A strip one element wide (width `w`, along y) following the polyline `path` in the x–z plane.
+fn strip(path: &[[f64; 2]], w: f64) -> Mesh {
+    let mut nodes = Vec::new();
+    for p in path {
+        nodes.push([p[0], -0.5 * w, p[1]]);
+        nodes.push([p[0], 0.5 * w, p[1]]);
+    }
+    let quads = (0..path.len() - 1)
+        .map(|i| [2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1])
+        .collect();
+    Mesh {
+        nodes,
+        quads,
+        yarns: None,
+        grid: None,
+    }
+}
+
+fn contact_for(
+    model: &Model,
+    tools: Vec<ToolMotion>,
+    holder: Option<Holder>,
+    friction: f64,
+    h: f64,
+) -> Contact {
+    let (area, cells) = node_shares(model);
+    let law = &model.law.p;
+    Contact::new(
+        tools,
+        holder,
+        ContactOptions {
+            friction,
+            slip_regularisation: 0.01 * h,
+            penalty_factor: 10.0,
+        },
+        area,
+        &cells,
+        0.5 * (law.c[0] + law.c[1]) / (0.5 * (law.l0[0] + law.l0[1])),
+        2.0 * h,
+    )
+}
+
+fn linear_fabric() -> CellLaw {
+    let mut p = CellParams::PAPER_GLASS;
+    p.undulation = false;
+    CellLaw::new(p)
+}
+
+#[test]
+fn capstan_over_the_die_entry_radius() {
+    let (mu, rm, t_in) = (0.2, 10.0, 100.0);
+    // Die: opening half side 100 (straight edge along y near y = 0), entry radius rm.
+    let die = Tool::box_die([200.0, 200.0], 5.0, 0.0, rm);
+    let h = 0.5;
+    let mut path = Vec::new();
+    // Flange: x from 130 down to 110 on z = 0.
+    let nf = (20.0 / h) as usize;
+    for i in 0..nf {
+        path.push([130.0 - i as f64 * h, 0.0]);
+    }
+    // Arc about (110, −10) from the top (90°) to the wall (180°).
+    let na = (std::f64::consts::FRAC_PI_2 * rm / h).round() as usize;
+    for i in 0..na {
+        let phi = std::f64::consts::FRAC_PI_2 * (1.0 + i as f64 / na as f64);
+        path.push([110.0 + rm * phi.cos(), -10.0 + rm * phi.sin()]);
+    }
+    // Wall: x = 100, z from −10 down to −30.
+    let nw = (20.0 / h) as usize;
+    for i in 0..=nw {
+        path.push([100.0, -10.0 - i as f64 * h]);
+    }
+    let mesh = strip(&path, 2.0);
+    let n = mesh.nodes.len();
+    let law = linear_fabric();
+    // The wall end pulled down by 3 mm; every node kept at its y (the strip is one element wide).
+    let mut prescribed = LinearPrescribed::default();
+    for i in 0..n {
+        prescribed.dofs.push(3 * i + 1);
+        prescribed.at_full_load.push(0.0);
+    }
+    for i in [n - 2, n - 1] {
+        prescribed.dofs.push(3 * i);
+        prescribed.at_full_load.push(0.0);
+        prescribed.dofs.push(3 * i + 2);
+        prescribed.at_full_load.push(-3.0);
+    }
+    let mut model = Model::new(mesh, law, &prescribed.dofs).unwrap();
+    let contact = contact_for(
+        &model,
+        vec![ToolMotion {
+            tool: die,
+            tip_start: 0.0,
+            stroke: 0.0,
+        }],
+        None,
+        mu,
+        h,
+    );
+    // The flange end held back by T_in (half on each of its two nodes).
+    let mut terms = WithDeadLoad {
+        contact,
+        loads: vec![(0, [0.5 * t_in, 0.0, 0.0]), (1, [0.5 * t_in, 0.0, 0.0])],
+    };
+    let mut solver = Solver::new(&mut model, SolverOptions::default());
+    solver.solve(&prescribed, &mut terms, &mut |_| {}).unwrap();
+    let stats = solver.stats.clone();
+    // The pull is what holds the wall end: the reaction at the pulled nodes plus the force the die
+    // puts directly on them.
+    let f = model.internal_force();
+    let x = model.positions();
+    let mut r_direct = vec![0.0; 3 * n];
+    terms.contact.add(1.0, &x, &mut r_direct, None);
+    let t_out = -(f[3 * (n - 2) + 2]
+        + f[3 * (n - 1) + 2]
+        + r_direct[3 * (n - 2) + 2]
+        + r_direct[3 * (n - 1) + 2]);
+    let ratio = t_out / t_in;
+    let exact = (mu * std::f64::consts::FRAC_PI_2).exp();
+    println!(
+        "capstan: T_out/T_in = {ratio:.4} (exact {exact:.4}, error {:.2} %), {} steps, {} Newton iterations, penetration {:.4} mm",
+        100.0 * (ratio / exact - 1.0),
+        stats.steps,
+        stats.newton_iterations,
+        terms.contact.max_penetration(1.0, &model.positions())
+    );
+    assert!(
+        (ratio / exact - 1.0).abs() < 0.02,
+        "T_out/T_in = {ratio}, exact {exact}"
+    );
+}
+
+#[test]
+fn holder_pull_out_force_is_two_mu_p_s() {
+    let (mu, p) = (0.2, 1.0);
+    let die = Tool::box_die([200.0, 200.0], 5.0, 0.0, 10.0);
+    let h = 2.0;
+    // A flat 40 × 10 mm strip on the flange, far outside the opening (x from 200 to 240).
+    let mesh = Mesh::yarn_grid(
+        [200.0, -5.0],
+        [40.0, 10.0],
+        [20, 5],
+        std::f64::consts::FRAC_PI_2,
+    );
+    let n = mesh.nodes.len();
+    let s_area = 40.0 * 10.0;
+    let law = linear_fabric();
+    // The x = 240 edge pulled outward by 2 mm.
+    let mut prescribed = LinearPrescribed::default();
+    for i in 0..n {
+        if (mesh.nodes[i][0] - 240.0).abs() < 1e-9 {
+            prescribed.dofs.push(3 * i);
+            prescribed.at_full_load.push(2.0);
+        }
+    }
+    let pulled: Vec<usize> = prescribed.dofs.clone();
+    let mut model = Model::new(mesh, law, &prescribed.dofs).unwrap();
+    let mut contact = contact_for(
+        &model,
+        vec![ToolMotion {
+            tool: die,
+            tip_start: 0.0,
+            stroke: 0.0,
+        }],
+        Some(Holder {
+            pressure: p,
+            die,
+            band: h,
+        }),
+        mu,
+        h,
+    );
+    let mut solver = Solver::new(&mut model, SolverOptions::default());
+    solver
+        .solve(&prescribed, &mut contact, &mut |_| {})
+        .unwrap();
+    // The pull balances all the friction on the strip, the pulled nodes' own included.
+    let _ = &pulled;
+    let pull = -contact.tool_force(0, 1.0, &model.positions())[0];
+    let exact = 2.0 * mu * p * s_area;
+    println!(
+        "pull-out: {pull:.3} N, 2μpS = {exact:.3} N, error {:.3} %",
+        100.0 * (pull / exact - 1.0)
+    );
+    assert!(
+        (pull / exact - 1.0).abs() < 0.01,
+        "pull-out {pull} N, 2μpS = {exact} N"
+    );
+}
+
+fn coarse_open_box() -> DrawingProblem {
+    let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
+    p.fabric.undulation = false;
+    p.element_size = 5.0;
+    p.stroke = 12.0;
+    p
+}
+
+#[test]
+fn penetration_stays_below_a_twentieth_of_the_element() {
+    let p = coarse_open_box();
+    let r = drawing::solve(&p, &mut |_| {});
+    assert!(r.converged, "{:?}", r.failure);
+    println!(
+        "penetration {:.4} mm for elements of {} mm",
+        r.penetration_mm, p.element_size
+    );
+    assert!(r.penetration_mm < 0.05 * p.element_size);
+}
+
+#[test]
+fn quarter_model_equals_the_full_model() {
+    let mut p = coarse_open_box();
+    p.symmetry = Symmetry::Quarter;
+    let q = drawing::solve(&p, &mut |_| {});
+    p.symmetry = Symmetry::Full;
+    let f = drawing::solve(&p, &mut |_| {});
+    assert!(
+        q.converged && f.converged,
+        "{:?} {:?}",
+        q.failure,
+        f.failure
+    );
+    let (sq, sf) = (q.max_shear().1, f.max_shear().1);
+    println!(
+        "quarter: shear {sq:.3}°, force {:.1} N; full: shear {sf:.3}°, force {:.1} N",
+        q.punch_force_n, f.punch_force_n
+    );
+    assert!((sq - sf).abs() < 0.5, "max shear {sq} vs {sf}");
+    assert!((q.punch_force_n / f.punch_force_n - 1.0).abs() < 0.02);
+    assert!((q.draw_in_mm - f.draw_in_mm).abs() < 0.05);
+}
+
+#[test]
+fn a_free_blank_needs_almost_no_punch_force_until_the_yarns_go_taut() {
+    // No holder, no friction: the punch only carries the blank down into the die.
+    let mut p = coarse_open_box();
+    p.friction = 0.0;
+    p.holder_pressure = 0.0;
+    p.stroke = 6.0;
+    let free = drawing::solve(&p, &mut |_| {});
+    assert!(free.converged, "{:?}", free.failure);
+    // The same stroke with the paper's holder and friction, for scale.
+    let held = drawing::solve(&coarse_open_box(), &mut |_| {});
+    let held_force = held.force_history.iter().map(|f| f.1).fold(0.0, f64::max);
+    println!(
+        "free blank: max tension {:.3} N, punch force {:.3} N (held blank: {:.1} N)",
+        free.max_tension_n(),
+        free.punch_force_n,
+        held_force
+    );
+    assert!(free.max_tension_n() < 1.0);
+    assert!(free.punch_force_n.abs() < 1e-2 * held_force);
+    assert!(free.left_out.iter().any(|s| s.contains("holder")));
+    assert!(free.left_out.iter().any(|s| s.contains("friction")));
+}
