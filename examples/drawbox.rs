@@ -32,6 +32,9 @@ fn main() {
             *clearance = c;
         }
     }
+    if std::env::var("WF_NOPRED").is_ok() {
+        p.solver.secant_predictor = false;
+    }
     if std::env::var("WF_LINEAR").is_ok() {
         p.fabric.undulation = false;
     }

@@ -155,6 +155,12 @@ pub struct DrawingResult {
     /// Free dofs of the solved model.
     pub dofs: usize,
     pub stats: SolveStats,
+    /// Work of the punch on the blank (the force history integrated over the stroke), N·mm.
+    pub punch_work_nmm: f64,
+    /// Work done against the stabilisation over the punch's work: how much of what the punch
+    /// put in went into the numerical stabiliser rather than the paper's model (yarn energy,
+    /// friction, holder).
+    pub stabilisation_work_share: f64,
     pub wall_s: f64,
     /// Terms the scene did not need and that were not built.
     pub left_out: Vec<String>,
@@ -403,6 +409,20 @@ pub fn solve(problem: &DrawingProblem, progress: &mut dyn FnMut(f64)) -> Drawing
         })
         .collect();
     let draw_in_mm = edge_draw_in(&model.mesh, &x, quarter);
+    let punch_work_nmm = {
+        let mut w = 0.0;
+        let mut last = (0.0, 0.0);
+        for &(z, f) in &force_history {
+            w += 0.5 * (f + last.1) * (z - last.0);
+            last = (z, f);
+        }
+        w
+    };
+    let stabilisation_work_share = if punch_work_nmm > 0.0 {
+        sym * stats.stabilisation_work / punch_work_nmm
+    } else {
+        0.0
+    };
     DrawingResult {
         converged: outcome.is_ok(),
         failure: outcome.err().map(|f| f.to_string()),
@@ -419,6 +439,8 @@ pub fn solve(problem: &DrawingProblem, progress: &mut dyn FnMut(f64)) -> Drawing
         draw_in_mm,
         dofs,
         stats,
+        punch_work_nmm,
+        stabilisation_work_share,
         wall_s: start.elapsed().as_secs_f64(),
         left_out,
         positions: x,
@@ -484,6 +506,8 @@ fn failed_early(
         draw_in_mm: 0.0,
         dofs: 0,
         stats: SolveStats::default(),
+        punch_work_nmm: 0.0,
+        stabilisation_work_share: 0.0,
         wall_s: start.elapsed().as_secs_f64(),
         left_out,
         mesh,

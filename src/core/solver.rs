@@ -109,6 +109,8 @@ pub struct SolverOptions {
     pub relaxation_passes: u32,
     /// Levenberg–Marquardt damping at the start of each step (times the cells' stiffness).
     pub initial_damping: f64,
+    /// Extrapolate the previous step's increment as the first guess of a step.
+    pub secant_predictor: bool,
 }
 
 impl Default for SolverOptions {
@@ -125,6 +127,7 @@ impl Default for SolverOptions {
             record_residuals: false,
             relaxation_passes: 3,
             initial_damping: 0.0,
+            secant_predictor: true,
         }
     }
 }
@@ -812,7 +815,10 @@ impl<'a> Solver<'a> {
             let x_start = self.model.positions();
             terms.begin_step(target, &x_start);
             // Secant predictor on the free dofs.
-            if let Some((dl, du)) = &previous_increment {
+            if let Some((dl, du)) = previous_increment
+                .as_ref()
+                .filter(|_| self.options.secant_predictor)
+            {
                 let ratio = (target - lambda) / dl;
                 let m = &mut *self.model;
                 for (d, &q) in m.eq.iter().enumerate() {
@@ -861,9 +867,9 @@ impl<'a> Solver<'a> {
                         self.stats.residuals.push(history);
                     }
                     progress(lambda);
-                    if iterations <= 4 {
+                    if iterations <= 8 {
                         step = (step * 1.5).min(self.options.max_step);
-                    } else if iterations >= 12 {
+                    } else if iterations >= 15 {
                         step *= 0.7;
                     }
                 }

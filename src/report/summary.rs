@@ -51,11 +51,11 @@ pub struct RunSummary {
     pub steps: u32,
     pub cutbacks: u32,
     pub newton_iterations: u32,
-    /// The viscous stabilisation's share of the work, and its force over the internal force at
-    /// the end (both dimensionless).
+    /// Work done against the viscous stabilisation over the punch's work, and the stabilisation
+    /// force over the internal force at the end (both dimensionless).
     pub stabilisation_work_share: f64,
     pub stabilisation_force_ratio: f64,
-    /// The tangent was singular at the end: the state is a mechanism.
+    /// A singular tangent was met during the run (part of the blank was a mechanism).
     pub mechanism: bool,
     /// Terms the scene did not need and that were not built.
     pub left_out: Vec<String>,
@@ -119,7 +119,7 @@ impl RunSummary {
             steps: result.stats.steps,
             cutbacks: result.stats.cutbacks,
             newton_iterations: result.stats.newton_iterations,
-            stabilisation_work_share: result.stats.stabilisation_share(),
+            stabilisation_work_share: result.stabilisation_work_share,
             stabilisation_force_ratio: result.stats.stabilisation_force_ratio,
             mechanism: result.stats.mechanism,
             left_out: result.left_out.clone(),
@@ -204,7 +204,7 @@ impl RunSummary {
         );
         let _ = writeln!(
             out,
-            "solver       {} steps, {} cut-backs, {} Newton iterations, {:.1} s; stabilisation {:.1} % of the work, end force ratio {:.1e}{}",
+            "solver       {} steps, {} cut-backs, {} Newton iterations, {:.1} s; stabilisation {:.2} % of the punch's work, its force at the end {:.1e} of the internal force{}",
             self.steps,
             self.cutbacks,
             self.newton_iterations,
@@ -212,7 +212,7 @@ impl RunSummary {
             100.0 * self.stabilisation_work_share,
             self.stabilisation_force_ratio,
             if self.mechanism {
-                "; the end state is a mechanism"
+                "; a singular tangent was met (part of the blank was a mechanism)"
             } else {
                 ""
             }
