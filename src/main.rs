@@ -171,7 +171,7 @@ fn main() -> ExitCode {
 fn overview() -> Result<(), Failure> {
     let p = CellParams::PAPER_GLASS;
     let law = CellLaw::new(p);
-    println!("wovenform: deep drawing of woven fabrics (the biaxial woven-cell law for now)");
+    println!("wovenform: deep drawing of woven fabrics (Boisse et al. 1997)");
     println!(
         "paper glass fabric: L0 = {} mm, e0 = {} mm, C = {} N, A = {} mm, B = {} 1/N",
         p.l0[0], p.e0[0], p.c[0], p.a, p.b
@@ -184,7 +184,10 @@ fn overview() -> Result<(), Failure> {
             eps[0], eps[1], r.t[0], r.t[1], r.crimp.s
         );
     }
-    println!("run `wovenform --help` for the commands");
+    println!();
+    println!("draw the paper's box:  wovenform run presets/paper-box-open.toml");
+    println!("                       wovenform run presets/paper-box-tight.toml");
+    println!("all the commands:      wovenform --help");
     Ok(())
 }
 

@@ -654,9 +654,10 @@ impl<'a> Solver<'a> {
         singular: &mut bool,
     ) -> Result<u32, String> {
         let tol_u = self.options.tol_displacement * self.model.element_size;
-        // An absolute floor: a yarn force of 1e-8 C (a strain of 1e-8), for problems whose forces
-        // are all nearly zero (a free, slack blank).
-        let abs_floor = 1e-8 * 0.5 * (self.model.law.p.c[0] + self.model.law.p.c[1]);
+        // An absolute floor: a yarn force of 1e-7 C (a yarn strain of 1e-7), for problems whose
+        // forces are all nearly zero (a free, slack blank, whose yarns sit on the slack/taut
+        // kink of the law).
+        let abs_floor = 1e-7 * 0.5 * (self.model.law.p.c[0] + self.model.law.p.c[1]);
         let mut last_du = f64::INFINITY;
         let mut last_shift = 0.0;
         // Each step starts damped (its first iteration meets the punch's new position).
