@@ -389,18 +389,32 @@ fn ellipsoid_distance(a: [f64; 3], p: [f64; 3]) -> Distance {
             }
         }
     }
+    // Newton on the decreasing, convex F, kept inside the bracket (bisection otherwise).
+    let dfval = |t: f64| -> f64 {
+        (0..3)
+            .map(|i| -2.0 * (a[i] * q[i]).powi(2) / (a[i] * a[i] + t).powi(3))
+            .sum::<f64>()
+    };
+    let mut t = if inside { 0.5 * (lo + hi) } else { hi };
     for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if fval(mid) > 0.0 {
-            lo = mid;
+        let f = fval(t);
+        if f > 0.0 {
+            lo = t;
         } else {
-            hi = mid;
+            hi = t;
         }
-        if hi - lo <= 1e-15 * (1.0 + hi.abs()) {
+        let df = dfval(t);
+        let mut next = if df < 0.0 { t - f / df } else { f64::NAN };
+        if !(next > lo && next < hi) {
+            next = 0.5 * (lo + hi);
+        }
+        if (next - t).abs() <= 1e-15 * (1.0 + t.abs()) || hi - lo <= 1e-15 * (1.0 + hi.abs()) {
+            t = next;
             break;
         }
+        t = next;
     }
-    let t = 0.5 * (lo + hi);
+
     let x: Vec<f64> = (0..3)
         .map(|i| a[i] * a[i] * q[i] / (a[i] * a[i] + t))
         .collect();
