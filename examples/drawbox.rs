@@ -35,6 +35,9 @@ fn main() {
     if std::env::var("WF_NOPRED").is_ok() {
         p.solver.secant_predictor = false;
     }
+    if std::env::var("WF_RELAX").is_ok() {
+        p.solver.relax_every_step = true;
+    }
     if std::env::var("WF_LINEAR").is_ok() {
         p.fabric.undulation = false;
     }

@@ -111,6 +111,8 @@ pub struct SolverOptions {
     pub initial_damping: f64,
     /// Extrapolate the previous step's increment as the first guess of a step.
     pub secant_predictor: bool,
+    /// Relax the stabilisation after every step (one pass), not only at the end.
+    pub relax_every_step: bool,
 }
 
 impl Default for SolverOptions {
@@ -128,6 +130,7 @@ impl Default for SolverOptions {
             relaxation_passes: 3,
             initial_damping: 0.0,
             secant_predictor: true,
+            relax_every_step: false,
         }
     }
 }
@@ -858,6 +861,17 @@ impl<'a> Solver<'a> {
                         })
                         .sum::<f64>();
                     f_start = f_end;
+                    if self.options.relax_every_step && self.options.stabilisation > 0.0 {
+                        let reference =
+                            std::mem::replace(&mut self.u_step_start, self.model.u.clone());
+                        let (u_keep, crimp_keep) = (self.model.u.clone(), self.model.crimp.clone());
+                        let mut h = Vec::new();
+                        if self.newton(target, &*terms, &mut h).is_err() {
+                            self.model.u = u_keep;
+                            self.model.crimp = crimp_keep;
+                        }
+                        self.u_step_start = reference;
+                    }
                     let x = self.model.positions();
                     terms.end_step(target, &x);
                     previous_increment = Some((target - lambda, du));
