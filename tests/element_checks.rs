@@ -2,22 +2,10 @@
 //! The woven-cell membrane element against finite differences, rigid motions and homogeneous
 //! states whose answers come from the law alone.
 
+mod common;
+use common::Lcg;
 use wovenform::core::element::{self, ElementGeometry, ElementOutput, GAUSS};
 use wovenform::core::law::{CellLaw, CellParams};
-
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-}
 
 /// A distorted element (about 5 mm, corners jittered by up to 1 mm) and yarns at `angle`.
 fn distorted(g: &mut Lcg, angle: f64) -> ([[f64; 3]; 4], [[f64; 3]; 2]) {

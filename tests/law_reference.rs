@@ -3,6 +3,8 @@
 //! values of `law.md`, the paper's equations (1)–(5) written out here in the paper's own variables,
 //! finite differences of the stored energy and of the tensions, and the nested bracketed solve.
 
+mod common;
+use common::Lcg;
 use wovenform::core::law::{CellLaw, CellParams, CrimpState};
 
 fn paper() -> CellLaw {
@@ -66,21 +68,6 @@ fn paper_equation_residuals(p: &CellParams, eps: [f64; 2], w: [f64; 2], t: [f64;
         t[0] - tf[0] * sin[0],           // eq 5, T11
         t[1] - tf[1] * sin[1],           // eq 5, T22
     ]
-}
-
-/// A small deterministic generator (no extra dependency).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
 }
 
 fn random_fabric(g: &mut Lcg) -> CellParams {

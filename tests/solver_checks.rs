@@ -9,23 +9,14 @@
 //!   ...
 //! ```
 
+mod common;
+use common::Lcg;
 use wovenform::core::element::GAUSS;
 use wovenform::core::law::{CellLaw, CellParams};
 use wovenform::core::mesh::Mesh;
 use wovenform::core::solver::{
     LinearPrescribed, Model, NoNodalTerms, Prescribed, Solver, SolverOptions,
 };
-
-struct Lcg(u64);
-impl Lcg {
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}
 
 fn boundary_nodes(mesh: &Mesh) -> Vec<usize> {
     let [n1, n2] = mesh.grid.unwrap();

@@ -2,18 +2,9 @@
 //! The rigid tools against closed forms (distances to faces, spheres and tori of known radius)
 //! and finite differences (normal = gradient of the distance, continuity of the normal).
 
+mod common;
+use common::Lcg;
 use wovenform::core::tools::Tool;
-
-struct Lcg(u64);
-impl Lcg {
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}
 
 fn tools() -> Vec<(&'static str, Tool)> {
     vec![

@@ -223,6 +223,40 @@ impl Contact {
         }
     }
 
+    /// The friction acting between node `i` and tool `t`: the lagged normal force (plus the
+    /// holder face's `p A w` on the die) and the normal it was lagged with.
+    fn friction_normal(&self, t: usize, i: usize) -> (f64, [f64; 3]) {
+        let lag = self.lag[t * self.area.len() + i];
+        let mut normal_force = lag.normal_force;
+        if !self.tools[t].tool.is_punch()
+            && let Some(h) = &self.holder
+        {
+            normal_force += h.pressure * self.area[i] * self.holder_weight[i];
+        }
+        (normal_force, lag.normal)
+    }
+
+    /// The tangential slip of node `i` at `p` relative to tool `t` since its friction anchor
+    /// (the step start less the carried slip, moving with the tool), projected on the plane
+    /// normal to `n`, mm.
+    fn slip(&self, t: usize, i: usize, lambda: f64, p: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+        let motion = &self.tools[t];
+        let dz = if motion.tool.is_punch() {
+            motion.tip(lambda) - motion.tip(self.lambda_step_start)
+        } else {
+            0.0
+        };
+        let x0 = self.x_step_start[i];
+        let c0 = self.carried_slip[t * self.area.len() + i];
+        let rel = [
+            p[0] - x0[0] + c0[0],
+            p[1] - x0[1] + c0[1],
+            p[2] - x0[2] - dz + c0[2],
+        ];
+        let rn = dot(rel, n);
+        [rel[0] - rn * n[0], rel[1] - rn * n[1], rel[2] - rn * n[2]]
+    }
+
     /// Adds node `i`'s terms with tool `t`: normal penalty and lagged friction.
     fn add_node_tool(
         &self,
@@ -265,30 +299,10 @@ impl Contact {
             }
         }
         // Friction with the lagged normal force (plus the holder face on the die).
-        let lag = self.lag[t * self.area.len() + i];
-        let mut normal_force = lag.normal_force;
-        if !tool.is_punch()
-            && let Some(h) = &self.holder
-        {
-            normal_force += h.pressure * self.area[i] * self.holder_weight[i];
-        }
+        let (normal_force, n) = self.friction_normal(t, i);
         let mu = self.options.friction;
         if mu > 0.0 && normal_force > 0.0 {
-            let dz = if motion.tool.is_punch() {
-                motion.tip(lambda) - motion.tip(self.lambda_step_start)
-            } else {
-                0.0
-            };
-            let x0 = self.x_step_start[i];
-            let c0 = self.carried_slip[t * self.area.len() + i];
-            let rel = [
-                p[0] - x0[0] + c0[0],
-                p[1] - x0[1] + c0[1],
-                p[2] - x0[2] - dz + c0[2],
-            ];
-            let n = lag.normal;
-            let rn = dot(rel, n);
-            let s = [rel[0] - rn * n[0], rel[1] - rn * n[1], rel[2] - rn * n[2]];
+            let s = self.slip(t, i, lambda, p, n);
             let eps = self.options.slip_regularisation;
             let rho = (dot(s, s) + eps * eps).sqrt();
             let c = mu * normal_force;
@@ -382,42 +396,17 @@ impl super::solver::NodalTerms for Contact {
         let n = x.len();
         let mut e = 0.0;
         for t in 0..self.tools.len() {
-            let motion = self.tools[t];
-            let tool = motion.at(lambda);
-            let dz = if motion.tool.is_punch() {
-                motion.tip(lambda) - motion.tip(self.lambda_step_start)
-            } else {
-                0.0
-            };
+            let tool = self.tools[t].at(lambda);
             for &i in &self.active[t] {
                 let i = i as usize;
                 let d = tool.distance(x[i]).d;
                 if d < 0.0 {
                     e += 0.5 * self.penalty[i] * d * d;
                 }
-                let lag = self.lag[t * n + i];
-                let mut normal_force = lag.normal_force;
-                if !tool.is_punch()
-                    && let Some(h) = &self.holder
-                {
-                    normal_force += h.pressure * self.area[i] * self.holder_weight[i];
-                }
+                let (normal_force, nn) = self.friction_normal(t, i);
                 let mu = self.options.friction;
                 if mu > 0.0 && normal_force > 0.0 {
-                    let x0 = self.x_step_start[i];
-                    let c0 = self.carried_slip[t * n + i];
-                    let rel = [
-                        x[i][0] - x0[0] + c0[0],
-                        x[i][1] - x0[1] + c0[1],
-                        x[i][2] - x0[2] - dz + c0[2],
-                    ];
-                    let nn = lag.normal;
-                    let rn = dot(rel, nn);
-                    let sl = [
-                        rel[0] - rn * nn[0],
-                        rel[1] - rn * nn[1],
-                        rel[2] - rn * nn[2],
-                    ];
+                    let sl = self.slip(t, i, lambda, x[i], nn);
                     let eps = self.options.slip_regularisation;
                     e += mu * normal_force * ((dot(sl, sl) + eps * eps).sqrt() - eps);
                 }
@@ -438,33 +427,14 @@ impl super::solver::NodalTerms for Contact {
         let n = x.len();
         let eps = self.options.slip_regularisation;
         for t in 0..self.tools.len() {
-            let motion = self.tools[t];
-            let dz = if motion.tool.is_punch() {
-                motion.tip(lambda) - motion.tip(self.lambda_step_start)
-            } else {
-                0.0
-            };
             for i in 0..n {
-                let lag = self.lag[t * n + i];
                 let k = t * n + i;
-                if lag.normal_force <= 0.0 && (t != 1 || self.holder_weight[i] <= 0.0) {
+                let (normal_force, nn) = self.friction_normal(t, i);
+                if normal_force <= 0.0 {
                     self.carried_slip[k] = [0.0; 3];
                     continue;
                 }
-                let x0 = self.x_step_start[i];
-                let c0 = self.carried_slip[k];
-                let rel = [
-                    x[i][0] - x0[0] + c0[0],
-                    x[i][1] - x0[1] + c0[1],
-                    x[i][2] - x0[2] - dz + c0[2],
-                ];
-                let nn = lag.normal;
-                let rn = dot(rel, nn);
-                let sl = [
-                    rel[0] - rn * nn[0],
-                    rel[1] - rn * nn[1],
-                    rel[2] - rn * nn[2],
-                ];
+                let sl = self.slip(t, i, lambda, x[i], nn);
                 let len = dot(sl, sl).sqrt();
                 let keep = (10.0 * eps).min(len);
                 self.carried_slip[k] = if len > 0.0 {
