@@ -5,3 +5,4 @@ pub mod core;
 pub mod fit;
 pub mod report;
 pub mod scene;
+pub mod sweep;

@@ -17,6 +17,7 @@ use wovenform::fit::{self as fitting, FitOptions, STRAIN_RANGE};
 use wovenform::report::figure6;
 use wovenform::report::summary::{self, RunSummary};
 use wovenform::scene::{Override, Scene};
+use wovenform::sweep::{self, Plan, Progress, Shard, SweepError};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -35,6 +36,11 @@ enum Command {
     /// Draw one scene: solve, print a summary (or one JSON object with --json) and write
     /// summary.json, shear.png, tension.png and result.vtu into --out.
     Run(RunArgs),
+    /// Run a grid of designs in parallel: results.csv (a row as each design finishes),
+    /// results.json, maps/<design>.png on one colour scale, report.png and a feasibility table.
+    Sweep(SweepArgs),
+    /// Combine the output folders of one sweep's shards into one results set and report.
+    Merge(MergeArgs),
     /// Evaluate the biaxial woven-cell law at one strain pair (one JSON object), or draw the
     /// paper's Figure 6 with --curves.
     Law(LawArgs),
@@ -59,6 +65,41 @@ struct RunArgs {
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     json: bool,
+}
+
+#[derive(Args, Debug)]
+struct SweepArgs {
+    /// Sweep file (TOML): a base scene and a [sweep] table of parameters.
+    #[arg(value_name = "SWEEP.toml")]
+    sweep: PathBuf,
+    /// Override one key of the base scene; VALUE is a TOML literal. Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Output folder.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Designs run at once (default: every core).
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
+    /// Run only the I-th of N slices of the grid (the designs whose index is I-1 modulo N).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<String>,
+    /// Continue a sweep in DIR: keep its rows for this base scene, run the missing designs.
+    #[arg(long)]
+    resume: bool,
+}
+
+#[derive(Args, Debug)]
+struct MergeArgs {
+    /// The output folders of the shards (of one sweep).
+    #[arg(value_name = "DIR", required = true)]
+    dirs: Vec<PathBuf>,
+    /// Output folder for the combined results.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Maps drawn at once (default: every core).
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
 }
 
 #[derive(Args, Debug)]
@@ -150,6 +191,8 @@ fn main() -> ExitCode {
     let outcome = match cli.command {
         None => overview(),
         Some(Command::Run(args)) => run(args),
+        Some(Command::Sweep(args)) => sweep_cmd(args),
+        Some(Command::Merge(args)) => merge_cmd(args),
         Some(Command::Law(args)) => law(args),
         Some(Command::Fit(args)) => fit(args),
         Some(Command::Bench(args)) => bench(args),
@@ -245,6 +288,147 @@ fn stroke_bar(stroke_mm: f64) -> ProgressBar {
     bar.set_message(format!("stroke 0.00 of {stroke_mm} mm"));
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     bar
+}
+
+impl From<SweepError> for Failure {
+    fn from(e: SweepError) -> Failure {
+        match e {
+            SweepError::BadInput(m) => Failure::BadInput(m),
+            SweepError::Run(m) => Failure::Run(m),
+        }
+    }
+}
+
+/// `wovenform sweep`: the grid in parallel, a progress bar, the table at the end.
+fn sweep_cmd(args: SweepArgs) -> Result<(), Failure> {
+    let shard = args
+        .shard
+        .as_deref()
+        .map(|s| s.parse::<Shard>())
+        .transpose()
+        .map_err(Failure::BadInput)?;
+    let plan = Plan::load(&args.sweep, &args.set)?;
+    let options = sweep::Options {
+        jobs: args.jobs,
+        shard,
+        resume: args.resume,
+    };
+    let terminal = std::io::stderr().is_terminal();
+    let bar = if terminal {
+        let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} designs, {msg}, ETA {eta}",
+        ) {
+            bar.set_style(style);
+        }
+        bar.set_message("0 feasible");
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let progress = |p: Progress| match p {
+        Progress::Start {
+            to_run,
+            kept,
+            invalid,
+        } => {
+            if args.resume {
+                bar.suspend(|| {
+                    eprintln!(
+                        "resume {}: {}; {} designs to run",
+                        args.out.display(),
+                        kept.describe(),
+                        to_run + invalid
+                    )
+                });
+            }
+            bar.set_length((to_run + invalid) as u64);
+            if terminal {
+                bar.enable_steady_tick(std::time::Duration::from_millis(200));
+            }
+        }
+        Progress::Done {
+            row,
+            done,
+            total,
+            feasible,
+        } => {
+            bar.set_position(done as u64);
+            bar.set_message(format!("{feasible} feasible"));
+            if !terminal {
+                let shear = row
+                    .max_shear_deg
+                    .map(|s| format!(", max shear {s:.1}°"))
+                    .unwrap_or_default();
+                eprintln!(
+                    "[{done}/{total}] {} {}{shear}",
+                    row.design,
+                    row.verdict.word()
+                );
+            }
+        }
+        Progress::Drawing { maps } => {
+            bar.set_message(format!("drawing {maps} maps and the report"));
+        }
+    };
+    let outcome = sweep::run(&plan, &args.out, &options, &progress);
+    bar.finish_and_clear();
+    let outcome = outcome?;
+    print_outcome(&plan, &outcome);
+    let per_min = if outcome.run_wall_s > 0.0 {
+        60.0 * outcome.ran as f64 / outcome.run_wall_s
+    } else {
+        0.0
+    };
+    println!(
+        "{} designs run in {:.1} s on {} threads ({per_min:.1} designs/min){}; {:.1} s in all",
+        outcome.ran,
+        outcome.run_wall_s,
+        outcome.threads,
+        if outcome.kept.kept > 0 {
+            format!(", {} rows kept from before", outcome.kept.kept)
+        } else {
+            String::new()
+        },
+        outcome.wall_s
+    );
+    Ok(())
+}
+
+/// `wovenform merge`: shards of one sweep into one results set.
+fn merge_cmd(args: MergeArgs) -> Result<(), Failure> {
+    let (plan, outcome) = sweep::merge(&args.dirs, &args.out, args.jobs)?;
+    eprintln!(
+        "merged {} folders: {}",
+        args.dirs.len(),
+        outcome.kept.describe()
+    );
+    print_outcome(&plan, &outcome);
+    Ok(())
+}
+
+/// The feasibility table, the counts and the files written.
+fn print_outcome(plan: &Plan, outcome: &sweep::Outcome) {
+    print!("{}", sweep::table(plan, &outcome.rows));
+    let c = sweep::counts(&outcome.rows);
+    println!();
+    println!(
+        "{} of {} designs: {} feasible, {} infeasible, {} failed, {} invalid{}",
+        outcome.rows.len(),
+        plan.len(),
+        c.feasible,
+        c.infeasible,
+        c.failed,
+        c.invalid,
+        if outcome.missing > 0 {
+            format!("; {} missing", outcome.missing)
+        } else {
+            String::new()
+        }
+    );
+    for f in &outcome.files {
+        println!("{}", f.display());
+    }
 }
 
 /// The fields printed by `wovenform law` (N, mm).

@@ -76,6 +76,9 @@ pub struct FieldMap {
     pub die_opening: Vec<[f64; 2]>,
     /// Image size in pixels.
     pub size: (u32, u32),
+    /// The top of the colour scale, when several maps share one (a sweep); `None`: a little
+    /// past the limit, or the largest value (see [`FieldMap::scale_top`]).
+    pub scale_max: Option<f64>,
 }
 
 /// How values are written on a map.
@@ -168,6 +171,7 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
         max_at: (!result.shear_deg.is_empty()).then_some([c[0], c[1]]),
         die_opening: die_opening_outline(&ctx.tooling),
         size: (1100, 900),
+        scale_max: None,
     }
 }
 
@@ -198,6 +202,7 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
         max_at: (max > 0.0).then_some([c[0], c[1]]),
         die_opening: die_opening_outline(&ctx.tooling),
         size: (1100, 900),
+        scale_max: None,
     }
 }
 
@@ -250,8 +255,12 @@ pub fn die_opening_outline(tooling: &Tooling) -> Vec<[f64; 2]> {
 type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 
 impl FieldMap {
-    /// The top of the colour scale: a little past the limit, or the largest value.
+    /// The top of the colour scale: the shared one when given ([`FieldMap::scale_max`]), else
+    /// a little past the limit, or the largest value.
     pub fn scale_top(&self) -> f64 {
+        if let Some(top) = self.scale_max.filter(|t| t.is_finite() && *t > 0.0) {
+            return top;
+        }
         let max = self.values.iter().cloned().fold(0.0, f64::max);
         (1.1 * self.limit).max(max)
     }
@@ -499,7 +508,7 @@ impl FieldMap {
         }
         // The largest value, unless it would sit on the limit's label.
         let max = self.values.iter().cloned().fold(0.0, f64::max);
-        let (_, y_max) = chart.backend_coord(&(1.0, max));
+        let (_, y_max) = chart.backend_coord(&(1.0, max.min(top)));
         root.draw(&PathElement::new(
             vec![(x1 - 10, y_max), (x1 + 6, y_max)],
             ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3),
@@ -587,9 +596,17 @@ mod tests {
             max_at: None,
             die_opening: Vec::new(),
             size: (100, 100),
+            scale_max: None,
         };
         let ((x0, x1), (y0, y1)) = map.ranges(700, 600);
         assert!(((x1 - x0) / 700.0 - (y1 - y0) / 600.0).abs() < 1e-12);
         assert!(x0 < -70.0 && x1 > 70.0 && y0 < -50.0 && y1 > 50.0);
+        // The colour scale: its own, or one shared by several maps.
+        assert!((map.scale_top() - 2.2).abs() < 1e-12);
+        let shared = FieldMap {
+            scale_max: Some(80.0),
+            ..map
+        };
+        assert_eq!(shared.scale_top(), 80.0);
     }
 }

@@ -223,18 +223,27 @@ impl LineChart {
             |e: &dyn std::fmt::Display| format!("{}: cannot draw the chart: {e}", path.display());
         let root = BitMapBackend::new(path, self.size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
-        let ((x0, x1), (y0, y1)) = self.ranges();
-        match (self.x_scale, self.y_scale) {
-            (Scale::Linear, Scale::Linear) => self.draw_on(&root, x0..x1, y0..y1),
-            (Scale::Log, Scale::Linear) => self.draw_on(&root, (x0..x1).log_scale(), y0..y1),
-            (Scale::Linear, Scale::Log) => self.draw_on(&root, x0..x1, (y0..y1).log_scale()),
-            (Scale::Log, Scale::Log) => {
-                self.draw_on(&root, (x0..x1).log_scale(), (y0..y1).log_scale())
-            }
-        }
-        .map_err(|e| fail(&e))?;
+        self.draw_into(&root).map_err(|e| fail(&e))?;
         root.present().map_err(|e| fail(&e))?;
         Ok(())
+    }
+
+    /// Draws the chart into a part of a larger picture (a report sheet); `self.size` is not
+    /// used, the chart fills `area`. The caller presents the picture.
+    pub fn draw_into(
+        &self,
+        area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    ) -> Result<(), String> {
+        register_fonts();
+        let ((x0, x1), (y0, y1)) = self.ranges();
+        match (self.x_scale, self.y_scale) {
+            (Scale::Linear, Scale::Linear) => self.draw_on(area, x0..x1, y0..y1),
+            (Scale::Log, Scale::Linear) => self.draw_on(area, (x0..x1).log_scale(), y0..y1),
+            (Scale::Linear, Scale::Log) => self.draw_on(area, x0..x1, (y0..y1).log_scale()),
+            (Scale::Log, Scale::Log) => {
+                self.draw_on(area, (x0..x1).log_scale(), (y0..y1).log_scale())
+            }
+        }
     }
 
     fn draw_on<X, Y>(
