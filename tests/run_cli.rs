@@ -2,30 +2,12 @@
 //! 5 mm mesh, a few mm of stroke) so that each run takes well under a second.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::{Map, Value};
 
-fn preset(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("presets")
-        .join(name)
-        .to_str()
-        .unwrap()
-        .to_string()
-}
-
-fn wovenform_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wovenform"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the wovenform binary runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+mod common;
+use common::{preset, text, wovenform_in};
 
 /// Coarse and short: the open box at 5 mm elements and 4 mm of stroke.
 /// A coarse, shallow run on a 140 mm blank (the sizes below are counted from it).

@@ -1,23 +1,16 @@
 //! Bad scenes given to `wovenform run`: exit code 2 before any solving, and a message on
 //! stderr that names the file (or the `--set`), the key and what was expected.
 
-use std::path::Path;
 use std::process::{Command, Output};
+
+mod common;
+use common::preset;
 
 fn wovenform(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wovenform"))
         .args(args)
         .output()
         .expect("the wovenform binary runs")
-}
-
-fn preset(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("presets")
-        .join(name)
-        .to_str()
-        .unwrap()
-        .to_string()
 }
 
 /// Runs `run SCENE args…` and checks exit code 2, nothing on stdout, and every word on stderr.

@@ -11,26 +11,15 @@
 
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
+mod common;
+use common::{text, wovenform_in as wovenform};
+
 fn preset(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("presets")
-        .join(name)
-}
-
-fn wovenform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wovenform"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the wovenform binary runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    PathBuf::from(common::preset(name))
 }
 
 /// The quick scene: what the sweep file's [scene] puts over the open box, as `--set`s for `run`.

@@ -19,3 +19,30 @@ impl Lcg {
         lo + (hi - lo) * self.next()
     }
 }
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// The path of a preset, as a command-line argument.
+pub fn preset(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("presets")
+        .join(name)
+        .to_str()
+        .expect("a UTF-8 path")
+        .to_string()
+}
+
+/// Runs the real binary in `dir` with `args`.
+pub fn wovenform_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wovenform"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the wovenform binary runs")
+}
+
+/// Program output as text.
+pub fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
