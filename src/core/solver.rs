@@ -388,6 +388,12 @@ impl Model {
     /// tangents) in parallel when `parallel`.
     pub fn evaluate_elements(&mut self, tangent: bool, parallel: bool) -> u64 {
         let x = self.positions();
+        self.evaluate_elements_at(&x, tangent, parallel)
+    }
+
+    /// [`Model::evaluate_elements`] at given nodal positions (those of the current
+    /// displacements), so a caller that needs them too computes them once.
+    fn evaluate_elements_at(&mut self, x: &[[f64; 3]], tangent: bool, parallel: bool) -> u64 {
         let quads = &self.mesh.quads;
         let geometry = &self.geometry;
         let law = &self.law;
@@ -496,7 +502,8 @@ impl<'a> Solver<'a> {
         let t0 = Instant::now();
         let parallel = self.options.parallel;
         let m = &mut *self.model;
-        self.stats.law_iterations += m.evaluate_elements(tangent, parallel);
+        let x = m.positions();
+        self.stats.law_iterations += m.evaluate_elements_at(&x, tangent, parallel);
         let ndof = m.u.len();
         let mut f_all = vec![0.0; ndof];
         if tangent {
@@ -547,7 +554,6 @@ impl<'a> Solver<'a> {
         }
         // Nodal terms.
         let t1 = Instant::now();
-        let x = m.positions();
         let mut f_terms = vec![0.0; ndof];
         let added = if tangent {
             self.blocks.iter_mut().for_each(|b| *b = [0.0; 6]);

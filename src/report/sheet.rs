@@ -188,7 +188,6 @@ impl Sheet {
     }
 
     fn draw(&self, root: &Area, (width, _): (u32, u32)) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
         let width = width as i32;
         fit_text(
             root,
@@ -198,9 +197,7 @@ impl Sheet {
             36,
             true,
             BLACK,
-            HPos::Left,
-        )
-        .map_err(|e| err(&e))?;
+        )?;
         let mut y = TITLE_H + 8;
         for line in &self.subtitle {
             fit_text(
@@ -211,9 +208,7 @@ impl Sheet {
                 21,
                 false,
                 RGBColor(60, 60, 60),
-                HPos::Left,
-            )
-            .map_err(|e| err(&e))?;
+            )?;
             y += 30;
         }
         let top = y + 20;
@@ -232,9 +227,7 @@ impl Sheet {
                 20,
                 true,
                 RGBColor(40, 40, 40),
-                HPos::Left,
-            )
-            .map_err(|e| err(&e))?;
+            )?;
         }
         grid_top += 36;
         self.draw_tiles(root, MARGIN, grid_top, cols)?;
@@ -253,9 +246,7 @@ impl Sheet {
                 19,
                 false,
                 RGBColor(60, 60, 60),
-                HPos::Left,
-            )
-            .map_err(|e| err(&e))?;
+            )?;
             y += 26;
         }
         y += 24;
@@ -275,9 +266,7 @@ impl Sheet {
                 19,
                 bold,
                 colour,
-                HPos::Left,
-            )
-            .map_err(|e| err(&e))?;
+            )?;
             y += 27;
         }
         Ok(())
@@ -424,30 +413,10 @@ fn draw_tile(
         Some(l) => format!("{}  {l}", short_id(&tile.id)),
         None => short_id(&tile.id).to_string(),
     };
-    fit_text(
-        root,
-        &first,
-        (x0 + 12, ly),
-        w - 24,
-        17,
-        false,
-        BLACK,
-        HPos::Left,
-    )
-    .map_err(|e| err(&e))?;
+    fit_text(root, &first, (x0 + 12, ly), w - 24, 17, false, BLACK)?;
     ly += 21;
     for line in tile.lines.iter().skip(1).take(1) {
-        fit_text(
-            root,
-            line,
-            (x0 + 12, ly),
-            w - 24,
-            17,
-            false,
-            BLACK,
-            HPos::Left,
-        )
-        .map_err(|e| err(&e))?;
+        fit_text(root, line, (x0 + 12, ly), w - 24, 17, false, BLACK)?;
         ly += 21;
     }
     let shear = tile
@@ -463,9 +432,7 @@ fn draw_tile(
         19,
         true,
         colour,
-        HPos::Left,
-    )
-    .map_err(|e| err(&e))?;
+    )?;
     let (mx0, my0, mx1, my1) = (x0 + 6, y0 + label_h + 4, x0 + w - 6, y0 + h - 6);
     match &tile.map {
         Some(map) => draw_tile_map(root, map, (mx0, my0, mx1, my1))?,
@@ -572,7 +539,7 @@ fn draw_tile_map(
     Ok(())
 }
 
-/// Text at the largest size up to `size` that fits `max_w` pixels.
+/// Left-aligned text at the largest size up to `size` that fits `max_w` pixels.
 #[allow(clippy::too_many_arguments)]
 fn fit_text(
     root: &Area,
@@ -582,12 +549,11 @@ fn fit_text(
     size: u32,
     bold: bool,
     colour: RGBColor,
-    h: HPos,
 ) -> Result<(), String> {
     let style_at = |size: u32| {
         let f = ("sans-serif", size).into_font();
         let f = if bold { f.style(FontStyle::Bold) } else { f };
-        f.color(&colour).pos(Pos::new(h, VPos::Top))
+        f.color(&colour).pos(Pos::new(HPos::Left, VPos::Top))
     };
     let mut size = size;
     while size > 9 {
