@@ -48,6 +48,16 @@ enum Command {
     Fit(FitArgs),
     /// Measure throughput on this machine (one thread; medians of several repetitions).
     Bench(BenchArgs),
+    /// The terminal explorer on a sweep file (without one: the paper's square box). Also what
+    /// `wovenform` alone opens in a terminal.
+    Tui(TuiArgs),
+}
+
+#[derive(Args, Debug)]
+struct TuiArgs {
+    /// Sweep file (TOML), as for `sweep`; default: the paper's box, tight and open radii.
+    #[arg(value_name = "SWEEP.toml")]
+    sweep: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -189,7 +199,11 @@ enum Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
+        None if std::io::stdout().is_terminal() && std::io::stdin().is_terminal() => {
+            tui(TuiArgs { sweep: None })
+        }
         None => overview(),
+        Some(Command::Tui(args)) => tui(args),
         Some(Command::Run(args)) => run(args),
         Some(Command::Sweep(args)) => sweep_cmd(args),
         Some(Command::Merge(args)) => merge_cmd(args),
@@ -210,7 +224,30 @@ fn main() -> ExitCode {
     }
 }
 
-/// No subcommand: the law at the paper's reference strains and a pointer to --help.
+/// `wovenform tui [SWEEP.toml]` (and `wovenform` alone in a terminal): the explorer.
+fn tui(args: TuiArgs) -> Result<(), Failure> {
+    let source = match &args.sweep {
+        Some(path) => wovenform::tui::source_of_file(path).map_err(Failure::BadInput)?,
+        None => wovenform::tui::params::default_source(),
+    };
+    let params = wovenform::tui::params::Parameters::new(source).map_err(Failure::BadInput)?;
+    if !std::io::stdout().is_terminal() {
+        return Err(Failure::BadInput(
+            "the explorer needs a terminal; use `wovenform sweep SWEEP.toml --out DIR` in scripts"
+                .into(),
+        ));
+    }
+    let stamp = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let session =
+        std::env::temp_dir().join(format!("wovenform-explorer-{stamp}-{}", std::process::id()));
+    wovenform::tui::explore(params, session).map_err(Failure::Run)
+}
+
+/// No subcommand and no terminal: the law at the paper's reference strains and a pointer to
+/// --help.
 fn overview() -> Result<(), Failure> {
     let p = CellParams::PAPER_GLASS;
     let law = CellLaw::new(p);
@@ -312,6 +349,7 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Failure> {
         jobs: args.jobs,
         shard,
         resume: args.resume,
+        ..sweep::Options::default()
     };
     let terminal = std::io::stderr().is_terminal();
     let bar = if terminal {

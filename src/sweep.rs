@@ -35,8 +35,10 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write as _;
 use std::fs;
 use std::io::Write as _;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -347,6 +349,18 @@ impl Plan {
         let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
             bad(format!("not valid TOML: {}", e.to_string().trim_end()))
         })?;
+        Plan::from_document(path, &doc, sets)
+    }
+
+    /// A plan from a parsed sweep document; `path` names it in errors and places a relative
+    /// `base` file (the explorer builds its documents in memory).
+    pub fn from_document(
+        path: &Path,
+        doc: &toml::Table,
+        sets: &[String],
+    ) -> Result<Plan, SweepError> {
+        let file = path.display().to_string();
+        let bad = |detail: String| SweepError::BadInput(format!("{file}: {detail}"));
         for key in doc.keys() {
             if !["base", "scene", "sweep"].contains(&key.as_str()) {
                 return Err(bad(format!(
@@ -589,7 +603,7 @@ impl Plan {
     }
 
     /// The design's row parameters, in column order.
-    fn params(&self, columns: &[Column], design: &Design) -> Vec<(String, toml::Value)> {
+    pub fn params(&self, columns: &[Column], design: &Design) -> Vec<(String, toml::Value)> {
         let table = toml::Table::try_from(&self.base_scene).unwrap_or_default();
         columns
             .iter()
@@ -1052,7 +1066,7 @@ impl StoredField {
         dir.join("fields").join(format!("{id}.json"))
     }
 
-    fn read(dir: &Path, id: &str) -> Result<StoredField, String> {
+    pub fn read(dir: &Path, id: &str) -> Result<StoredField, String> {
         let path = Self::path(dir, id);
         let text = fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
@@ -1099,7 +1113,7 @@ impl StoredField {
     }
 
     /// The full blank's plan quads and values (mirrored when a quarter was solved).
-    fn full_blank(&self) -> (Vec<PlanQuad>, Vec<f64>) {
+    pub fn full_blank(&self) -> (Vec<PlanQuad>, Vec<f64>) {
         let quads: Vec<PlanQuad> = self
             .quads
             .iter()
@@ -1149,6 +1163,12 @@ pub struct Options {
     pub jobs: Option<usize>,
     pub shard: Option<Shard>,
     pub resume: bool,
+    /// Set from another thread to stop: designs not started are left, running ones end at
+    /// their next load step (their rows are not written, so a resume runs them again).
+    pub stop: Option<Arc<AtomicBool>>,
+    /// Leave out the maps, the report sheet and `results.json` at the end (the explorer
+    /// draws them on export).
+    pub skip_report: bool,
 }
 
 /// What a sweep reports while it runs.
@@ -1188,6 +1208,8 @@ pub struct Outcome {
     pub wall_s: f64,
     /// The files written at the end.
     pub files: Vec<PathBuf>,
+    /// Stopped on request before every design had run.
+    pub stopped: bool,
 }
 
 fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool, SweepError> {
@@ -1278,11 +1300,29 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
-/// Runs one valid design: solve (single-threaded), its field file, its row.
-fn run_design(plan: &Plan, columns: &[Column], design: &Design, scene: &Scene, dir: &Path) -> Row {
+/// Runs one valid design: solve (single-threaded), its field file, its row; `None` when
+/// stopped on request before the end.
+fn run_design(
+    plan: &Plan,
+    columns: &[Column],
+    design: &Design,
+    scene: &Scene,
+    dir: &Path,
+    stop: Option<&AtomicBool>,
+) -> Option<Row> {
     let mut problem = scene.to_problem();
     problem.solver.parallel = false;
-    let result = drawing::solve(&problem, &mut |_| {});
+    let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
+    let result = drawing::solve_until(&problem, &mut |_| {
+        if stopped() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    if stopped() {
+        return None;
+    }
     let summary = RunSummary::new(&design.id, scene, &result);
     let ctx = MapContext {
         scene: &design.id,
@@ -1300,7 +1340,7 @@ fn run_design(plan: &Plan, columns: &[Column], design: &Design, scene: &Scene, d
             None => note,
         });
     }
-    row
+    Some(row)
 }
 
 /// Runs a sweep into `dir`: the designs of the grid (of the shard) without a row yet, in
@@ -1394,22 +1434,35 @@ pub fn run(
         sink.push(row);
     }
     let run_start = Instant::now();
+    let stop = options.stop.as_deref();
     pool.install(|| {
         valid.par_iter().with_max_len(1).for_each(|(d, scene)| {
+            if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                return;
+            }
             let t = Instant::now();
             let row = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                run_design(plan, &columns, d, scene, dir)
+                run_design(plan, &columns, d, scene, dir, stop)
             }))
             .unwrap_or_else(|payload| {
                 let reason = format!(
                     "the program failed on this design: {}",
                     panic_message(&*payload)
                 );
-                Row::failed(plan, &columns, d, reason, t.elapsed().as_secs_f64())
+                Some(Row::failed(
+                    plan,
+                    &columns,
+                    d,
+                    reason,
+                    t.elapsed().as_secs_f64(),
+                ))
             });
-            sink.push(row);
+            if let Some(row) = row {
+                sink.push(row);
+            }
         });
     });
+    let stopped = stop.is_some_and(|s| s.load(Ordering::Relaxed));
     let run_wall_s = run_start.elapsed().as_secs_f64();
     let state = sink.state.into_inner().unwrap_or_else(|e| e.into_inner());
     if let Some(e) = state.error {
@@ -1431,10 +1484,14 @@ pub fn run(
         .iter()
         .filter(|r| options.shard.is_none_or(|s| s.contains(r.index)))
         .count();
-    progress(Progress::Drawing {
-        maps: rows.iter().filter(|r| r.map.is_some()).count(),
-    });
-    let files = finalize(plan, dir, &rows, options.shard, &pool).map_err(SweepError::Run)?;
+    let files = if options.skip_report {
+        vec![csv_path]
+    } else {
+        progress(Progress::Drawing {
+            maps: rows.iter().filter(|r| r.map.is_some()).count(),
+        });
+        finalize(plan, dir, &rows, options.shard, &pool).map_err(SweepError::Run)?
+    };
     Ok(Outcome {
         missing: mine.saturating_sub(present),
         rows,
@@ -1444,6 +1501,7 @@ pub fn run(
         run_wall_s,
         wall_s: start.elapsed().as_secs_f64(),
         files,
+        stopped,
     })
 }
 
@@ -1559,6 +1617,7 @@ pub fn merge(
         run_wall_s: 0.0,
         wall_s: start.elapsed().as_secs_f64(),
         files,
+        stopped: false,
     };
     Ok((plan, outcome))
 }

@@ -13,6 +13,7 @@
 //!   pull-out: a strip under the holder pressure p on the flange, pulled out: F = 2 μ p S
 //! ```
 
+use std::ops::ControlFlow;
 use wovenform::core::contact::{Contact, ContactOptions, Holder, ToolMotion};
 use wovenform::core::drawing::{self, DrawingProblem, Symmetry, node_shares};
 use wovenform::core::law::{CellLaw, CellParams};
@@ -168,7 +169,9 @@ fn capstan_over_the_die_entry_radius() {
         loads: vec![(0, [0.5 * t_in, 0.0, 0.0]), (1, [0.5 * t_in, 0.0, 0.0])],
     };
     let mut solver = Solver::new(&mut model, SolverOptions::default());
-    solver.solve(&prescribed, &mut terms, &mut |_| {}).unwrap();
+    solver
+        .solve(&prescribed, &mut terms, &mut |_| ControlFlow::Continue(()))
+        .unwrap();
     let stats = solver.stats.clone();
     // The pull is what holds the wall end: the reaction at the pulled nodes plus the force the die
     // puts directly on them.
@@ -237,7 +240,11 @@ fn holder_pull_out_force_is_two_mu_p_s() {
     );
     let mut solver = Solver::new(&mut model, SolverOptions::default());
     solver
-        .solve(&prescribed, &mut contact, &mut |_| {})
+        .solve(
+            &prescribed,
+            &mut contact,
+            &mut |_| ControlFlow::Continue(()),
+        )
         .unwrap();
     // The pull balances all the friction on the strip, the pulled nodes' own included.
     let _ = &pulled;
@@ -318,4 +325,30 @@ fn a_free_blank_needs_almost_no_punch_force_until_the_yarns_go_taut() {
     assert!(free.punch_force_n.abs() < 1e-2 * held_force);
     assert!(free.left_out.iter().any(|s| s.contains("holder")));
     assert!(free.left_out.iter().any(|s| s.contains("friction")));
+}
+
+#[test]
+fn a_run_stops_at_the_step_it_is_asked_to() {
+    let p = coarse_open_box();
+    let mut seen = 0;
+    let r = drawing::solve_until(&p, &mut |_| {
+        seen += 1;
+        if seen == 3 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    assert!(!r.converged);
+    assert_eq!(r.stats.steps, 3);
+    assert!(
+        r.failure
+            .as_deref()
+            .unwrap_or("")
+            .contains("stopped on request"),
+        "{:?}",
+        r.failure
+    );
+    assert!(r.stroke_reached_mm > 0.0 && r.stroke_reached_mm < p.stroke);
+    assert!(r.shear_deg.iter().all(|s| s.is_finite()));
 }

@@ -11,6 +11,7 @@
 
 mod common;
 use common::Lcg;
+use std::ops::ControlFlow;
 use wovenform::core::element::GAUSS;
 use wovenform::core::law::{CellLaw, CellParams};
 use wovenform::core::mesh::Mesh;
@@ -76,7 +77,9 @@ fn patch_test_on_an_irregular_mesh_gives_the_law_in_every_element() {
         },
     );
     solver
-        .solve(&prescribed, &mut NoNodalTerms, &mut |_| {})
+        .solve(&prescribed, &mut NoNodalTerms, &mut |_| {
+            ControlFlow::Continue(())
+        })
         .unwrap();
     let stats = solver.stats.clone();
     let expected = law.evaluate([e1, e2], law.initial_state()).t;
@@ -153,7 +156,7 @@ fn pure_trellising_costs_nothing_and_is_recognised_as_a_mechanism() {
             ..Default::default()
         },
     );
-    let outcome = solver.solve(&p_b, &mut NoNodalTerms, &mut |_| {});
+    let outcome = solver.solve(&p_b, &mut NoNodalTerms, &mut |_| ControlFlow::Continue(()));
     let stats = solver.stats.clone();
     match outcome {
         Ok(()) => assert!(
@@ -218,7 +221,9 @@ fn newton_converges_quadratically_on_a_stretched_and_rotated_sheet() {
             ..Default::default()
         },
     );
-    solver.solve(&path, &mut NoNodalTerms, &mut |_| {}).unwrap();
+    solver
+        .solve(&path, &mut NoNodalTerms, &mut |_| ControlFlow::Continue(()))
+        .unwrap();
     let stats = solver.stats.clone();
     // Quadratic convergence: once the residual is small, r(k+1)/r(k)² stays bounded. Residuals
     // are made dimensionless by the internal force scale of the solution; pairs within 100× of

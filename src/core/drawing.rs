@@ -3,6 +3,7 @@
 //! and yarns are symmetric about both axes), builds the contact terms, drives the punch to full
 //! stroke and returns a [`DrawingResult`] with the fields and figures a user checks.
 
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use super::contact::{Contact, ContactOptions, Holder, ToolMotion};
@@ -281,6 +282,18 @@ pub fn node_shares(model: &Model) -> (Vec<f64>, Vec<f64>) {
 
 /// Solves the drawing; `progress` receives the stroke fraction after every accepted step.
 pub fn solve(problem: &DrawingProblem, progress: &mut dyn FnMut(f64)) -> DrawingResult {
+    solve_until(problem, &mut |fraction| {
+        progress(fraction);
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`solve`] that can be stopped: when `progress` returns `ControlFlow::Break`, the run ends
+/// after that step, not converged, its failure saying so (the fields are those of that step).
+pub fn solve_until(
+    problem: &DrawingProblem,
+    progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
+) -> DrawingResult {
     let start = Instant::now();
     let law = CellLaw::new(problem.fabric);
     let quarter = problem.quarter_applies();

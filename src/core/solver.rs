@@ -8,6 +8,7 @@
 //! much of the answer is the stabiliser rather than the paper's model.
 
 use rayon::prelude::*;
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 use super::element::{self, ElementGeometry, ElementOutput, GAUSS, GeometryError};
@@ -143,6 +144,8 @@ pub enum Failure {
         element: usize,
         cause: GeometryError,
     },
+    /// The caller asked to stop (through the progress callback) at this load factor.
+    Stopped { lambda: f64 },
     /// The load increment fell below the minimum without converging.
     StepFailed {
         lambda: f64,
@@ -157,6 +160,7 @@ impl std::fmt::Display for Failure {
             Failure::BadElement { element, cause } => {
                 write!(f, "element {element} is unusable: {cause:?}")
             }
+            Failure::Stopped { lambda } => write!(f, "stopped on request at load {lambda:.4}"),
             Failure::StepFailed {
                 lambda,
                 step,
@@ -803,12 +807,13 @@ impl<'a> Solver<'a> {
     }
 
     /// Runs the load path from the current state to `λ = 1`. `progress` receives the load
-    /// factor after every accepted step.
+    /// factor after every accepted step; returning `ControlFlow::Break` stops the run there
+    /// (`Failure::Stopped`, the state left at that step).
     pub fn solve(
         &mut self,
         prescribed: &dyn Prescribed,
         terms: &mut dyn NodalTerms,
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
     ) -> Result<(), Failure> {
         let mut lambda = 0.0;
         let mut step = self.options.initial_step.min(self.options.max_step);
@@ -887,7 +892,10 @@ impl<'a> Solver<'a> {
                     if self.options.record_residuals {
                         self.stats.residuals.push(history);
                     }
-                    progress(lambda);
+                    if progress(lambda).is_break() {
+                        self.assemble(lambda, &*terms, false);
+                        return Err(Failure::Stopped { lambda });
+                    }
                     if iterations <= 8 {
                         step = (step * 1.5).min(self.options.max_step);
                     } else if iterations >= 15 {

@@ -1,0 +1,127 @@
+//! Accuracy levels: how fine the blank is meshed, and the error that buys, measured.
+//!
+//! A level sets `mesh.element_size`. Its error estimate is the error measured on the paper's
+//! square box (the open design 10/15/10 and the tight design 5/6/5, linear law, 28 mm stroke)
+//! against a Richardson extrapolation of a mesh ladder (5, 3.5, 2.5, 1.75, 1.25 mm; observed
+//! order of the maximum shear ≈ 2): the larger of the two designs' errors, rounded up.
+//! `wovenform converge presets/paper-box-open.toml --out DIR` reproduces the ladder.
+
+/// How fine a run is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Accuracy {
+    Coarse,
+    Standard,
+    Fine,
+}
+
+/// What a level costs and what it is worth on the paper box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorEstimate {
+    /// Error of the maximum shear angle, degrees.
+    pub max_shear_deg: f64,
+    /// Relative error of the punch force, %.
+    pub punch_force_pct: f64,
+    /// Wall time of the open box on one core, s (what the level costs).
+    pub open_box_wall_s: f64,
+}
+
+impl Accuracy {
+    pub const ALL: [Accuracy; 3] = [Accuracy::Coarse, Accuracy::Standard, Accuracy::Fine];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Accuracy::Coarse => "coarse",
+            Accuracy::Standard => "standard",
+            Accuracy::Fine => "fine",
+        }
+    }
+
+    /// Reads a level's name; the error lists the names.
+    pub fn parse(text: &str) -> Result<Accuracy, String> {
+        let t = text.trim();
+        Accuracy::ALL
+            .into_iter()
+            .find(|a| a.name().eq_ignore_ascii_case(t))
+            .ok_or_else(|| format!("{t:?}: expected coarse, standard or fine"))
+    }
+
+    /// Element size of the blank mesh, mm.
+    pub fn element_size_mm(self) -> f64 {
+        match self {
+            Accuracy::Coarse => 5.0,
+            Accuracy::Standard => 2.5,
+            Accuracy::Fine => 1.25,
+        }
+    }
+
+    /// The scene overrides that set this level.
+    pub fn overrides(self) -> Vec<String> {
+        vec![format!("mesh.element_size={:?}", self.element_size_mm())]
+    }
+
+    /// The next level up or down (saturating).
+    pub fn step(self, up: bool) -> Accuracy {
+        let i = Accuracy::ALL.iter().position(|a| *a == self).unwrap_or(1);
+        let j = if up {
+            (i + 1).min(2)
+        } else {
+            i.saturating_sub(1)
+        };
+        Accuracy::ALL[j]
+    }
+
+    /// The measured error of this level on the paper box (see the module's comment).
+    pub fn error(self) -> ErrorEstimate {
+        match self {
+            // Open 56.91° and tight 74.49° against 59.70° and 78.5° extrapolated.
+            Accuracy::Coarse => ErrorEstimate {
+                max_shear_deg: 4.0,
+                punch_force_pct: 6.0,
+                open_box_wall_s: 0.8,
+            },
+            // Open 58.89°, tight 78.01°.
+            Accuracy::Standard => ErrorEstimate {
+                max_shear_deg: 1.0,
+                punch_force_pct: 1.5,
+                open_box_wall_s: 1.5,
+            },
+            // Open 59.53°, tight 78.47°.
+            Accuracy::Fine => ErrorEstimate {
+                max_shear_deg: 0.3,
+                punch_force_pct: 0.5,
+                open_box_wall_s: 13.6,
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for Accuracy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_errors_shrink_with_the_mesh() {
+        for a in Accuracy::ALL {
+            assert_eq!(Accuracy::parse(a.name()), Ok(a));
+        }
+        assert!(
+            Accuracy::parse("medium")
+                .unwrap_err()
+                .contains("coarse, standard or fine")
+        );
+        let e: Vec<f64> = Accuracy::ALL
+            .iter()
+            .map(|a| a.error().max_shear_deg)
+            .collect();
+        assert!(e[0] > e[1] && e[1] > e[2]);
+        assert_eq!(Accuracy::Coarse.step(false), Accuracy::Coarse);
+        assert_eq!(Accuracy::Standard.step(true), Accuracy::Fine);
+        assert_eq!(Accuracy::Standard.overrides(), ["mesh.element_size=2.5"]);
+    }
+}

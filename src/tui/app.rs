@@ -1,0 +1,580 @@
+//! The explorer's state and what each key does to it. No terminal here: keys come in as
+//! `KeyEvent`s, worker reports as `Message`s, and what needs the outside world (a sweep, an
+//! export, quitting) goes out as a `Command`, so that all of it can be tested directly.
+
+use std::cmp::Ordering;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+use crate::report::sheet::Verdict;
+use crate::sweep::{Design, Plan, Row, StoredField};
+
+use super::params::{Parameters, Target};
+use super::worker::Message;
+
+/// Which panel the arrow keys move in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Focus {
+    Parameters,
+    Results,
+}
+
+/// What the keys are doing.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Mode {
+    Normal,
+    /// Editing the selected parameter: the text typed and what is wrong with it.
+    Editing {
+        buffer: String,
+        error: Option<String>,
+    },
+    /// Asking where to export.
+    Exporting {
+        buffer: String,
+    },
+    Help,
+    /// The selected design's detail over the whole screen.
+    Detail,
+}
+
+/// Where the sweep is.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RunState {
+    Idle,
+    Running,
+    /// Cancel asked; waiting for the designs on the workers to stop.
+    Stopping,
+    Finished {
+        wall_s: f64,
+    },
+    Cancelled {
+        wall_s: f64,
+    },
+    Failed(String),
+}
+
+/// What the event loop must do after a key.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    None,
+    Quit,
+    /// Run `plan` into `dir`, keeping the rows already there when `resume`.
+    Start {
+        plan: Box<Plan>,
+        dir: PathBuf,
+        resume: bool,
+    },
+    Cancel,
+    Export {
+        from: PathBuf,
+        to: PathBuf,
+    },
+}
+
+/// One line of the results table: a design of the grid, and its row once it has one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Entry {
+    pub design: Design,
+    pub params: Vec<(String, toml::Value)>,
+    pub row: Option<Row>,
+}
+
+/// The columns of the results table one can sort by, after the parameters.
+pub const FIGURE_COLUMNS: [&str; 6] = ["#", "shear", "tension", "force", "verdict", "time"];
+
+/// The sort: a column (0 = design number, 1..=P the parameters, then the figures) and its
+/// direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sort {
+    pub column: usize,
+    pub descending: bool,
+}
+
+/// The explorer.
+pub struct App {
+    pub params: Parameters,
+    /// The plan whose designs the table shows (the parameters may have been edited since).
+    pub table_plan: Plan,
+    pub entries: Vec<Entry>,
+    pub focus: Focus,
+    pub mode: Mode,
+    /// The selected parameter.
+    pub cursor: usize,
+    /// The selected line of the visible results.
+    pub selected: usize,
+    pub sort: Sort,
+    pub feasible_only: bool,
+    pub run: RunState,
+    /// Designs to run in this run, and finished in it.
+    pub to_run: usize,
+    pub done: usize,
+    /// Seconds since the explorer opened (set by the event loop), and when the run started.
+    pub now_s: f64,
+    pub run_started_s: f64,
+    /// A line for the user: the export's path, an error.
+    pub status: String,
+    /// Where the runs of this session are written.
+    pub session: PathBuf,
+    pub runs: usize,
+    /// The folder of the table's rows.
+    pub run_dir: Option<PathBuf>,
+    /// Shear fields of finished designs, read from the run folder when first shown.
+    pub fields: HashMap<String, Result<StoredField, String>>,
+    /// False where the terminal has no colours: symbols and shades instead.
+    pub colour: bool,
+    /// Where the next export goes by default.
+    pub export_dir: PathBuf,
+}
+
+fn entries_of(plan: &Plan) -> Vec<Entry> {
+    let columns = plan.columns();
+    plan.designs()
+        .into_iter()
+        .map(|d| Entry {
+            params: plan.params(&columns, &d),
+            design: d,
+            row: None,
+        })
+        .collect()
+}
+
+fn number(v: &toml::Value) -> Option<f64> {
+    match v {
+        toml::Value::Float(f) => Some(*f),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+fn cmp_option(a: Option<f64>, b: Option<f64>) -> Ordering {
+    match (a, b) {
+        (Some(a), Some(b)) => a.total_cmp(&b),
+        (Some(_), None) => Ordering::Less,
+        (None, Some(_)) => Ordering::Greater,
+        (None, None) => Ordering::Equal,
+    }
+}
+
+impl App {
+    pub fn new(params: Parameters, session: PathBuf, colour: bool) -> App {
+        let plan = params.plan.clone();
+        let export_dir = PathBuf::from(format!("{}-export", plan.name()));
+        App {
+            entries: entries_of(&plan),
+            table_plan: plan,
+            params,
+            focus: Focus::Results,
+            mode: Mode::Normal,
+            cursor: 0,
+            selected: 0,
+            sort: Sort {
+                column: 0,
+                descending: false,
+            },
+            feasible_only: false,
+            run: RunState::Idle,
+            to_run: 0,
+            done: 0,
+            now_s: 0.0,
+            run_started_s: 0.0,
+            status: String::new(),
+            session,
+            runs: 0,
+            run_dir: None,
+            fields: HashMap::new(),
+            colour,
+            export_dir,
+        }
+    }
+
+    pub fn running(&self) -> bool {
+        matches!(self.run, RunState::Running | RunState::Stopping)
+    }
+
+    /// The parameters were edited since the table's designs were laid out.
+    pub fn edited(&self) -> bool {
+        self.params.plan.sweep_hash != self.table_plan.sweep_hash
+    }
+
+    /// The number of sortable columns.
+    fn sort_columns(&self) -> usize {
+        self.table_plan.columns().len() + FIGURE_COLUMNS.len()
+    }
+
+    /// The name of a sortable column.
+    pub fn sort_name(&self, column: usize) -> String {
+        let cols = self.table_plan.columns();
+        match column {
+            0 => "#".into(),
+            c if c <= cols.len() => cols[c - 1].name.clone(),
+            c => FIGURE_COLUMNS[c - cols.len()].into(),
+        }
+    }
+
+    fn sort_value(&self, e: &Entry, column: usize) -> Option<f64> {
+        let p = e.params.len();
+        let row = e.row.as_ref();
+        match column {
+            0 => Some(e.design.index as f64),
+            c if c <= p => number(&e.params[c - 1].1),
+            c => match c - p {
+                1 => row.and_then(|r| r.max_shear_deg),
+                2 => row.and_then(|r| r.max_tension_n),
+                3 => row.and_then(|r| r.punch_force_n),
+                4 => row.map(|r| r.verdict as u8 as f64),
+                _ => row.and_then(|r| r.wall_s),
+            },
+        }
+    }
+
+    /// The lines of the results table, as indices into `entries`, filtered and sorted.
+    pub fn visible(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = (0..self.entries.len())
+            .filter(|&i| {
+                !self.feasible_only
+                    || self.entries[i]
+                        .row
+                        .as_ref()
+                        .is_some_and(|r| r.verdict == Verdict::Feasible)
+            })
+            .collect();
+        let col = self.sort.column;
+        v.sort_by(|&a, &b| {
+            let (ea, eb) = (&self.entries[a], &self.entries[b]);
+            let (va, vb) = (self.sort_value(ea, col), self.sort_value(eb, col));
+            // Designs without a figure go last in either direction.
+            let o = match (va, vb) {
+                (Some(x), Some(y)) if self.sort.descending => y.total_cmp(&x),
+                _ => cmp_option(va, vb),
+            };
+            o.then(ea.design.index.cmp(&eb.design.index))
+        });
+        v
+    }
+
+    /// The selected entry, if the table has lines.
+    pub fn selected_entry(&self) -> Option<&Entry> {
+        let v = self.visible();
+        v.get(self.selected.min(v.len().saturating_sub(1)))
+            .map(|&i| &self.entries[i])
+    }
+
+    /// The selected design's shear field (read from the run folder the first time).
+    pub fn selected_field(&mut self) -> Option<&Result<StoredField, String>> {
+        let id = self
+            .selected_entry()
+            .and_then(|e| e.row.as_ref())
+            .filter(|r| r.map.is_some())
+            .map(|r| r.design.clone())?;
+        if !self.fields.contains_key(&id) {
+            let read = match &self.run_dir {
+                Some(dir) => StoredField::read(dir, &id),
+                None => Err("no run folder".into()),
+            };
+            self.fields.insert(id.clone(), read);
+        }
+        self.fields.get(&id)
+    }
+
+    /// Counts over the table: (with a row, feasible).
+    pub fn counts(&self) -> (usize, usize) {
+        let rows = self.entries.iter().filter_map(|e| e.row.as_ref());
+        let (mut done, mut feasible) = (0, 0);
+        for r in rows {
+            done += 1;
+            if r.verdict == Verdict::Feasible {
+                feasible += 1;
+            }
+        }
+        (done, feasible)
+    }
+
+    /// Seconds left, from the pace of the designs finished in this run.
+    pub fn eta_s(&self) -> Option<f64> {
+        if !self.running() || self.done == 0 {
+            return None;
+        }
+        let elapsed = self.now_s - self.run_started_s;
+        Some(elapsed / self.done as f64 * self.to_run.saturating_sub(self.done) as f64)
+    }
+
+    /// A report from the workers.
+    pub fn on_message(&mut self, m: Message) {
+        match m {
+            Message::Started { to_run, kept } => {
+                self.to_run = to_run;
+                self.done = 0;
+                if kept > 0 {
+                    self.status = format!("{kept} finished designs kept from the stopped run");
+                }
+            }
+            Message::Row(row) => {
+                if let Some(e) = self.entries.iter_mut().find(|e| e.design.id == row.design) {
+                    if row.verdict != Verdict::Invalid {
+                        self.done += 1;
+                    }
+                    e.row = Some(*row);
+                }
+            }
+            Message::Finished {
+                stopped,
+                wall_s,
+                error,
+            } => {
+                self.run = match (error, stopped) {
+                    (Some(e), _) => RunState::Failed(e),
+                    (None, true) => RunState::Cancelled { wall_s },
+                    (None, false) => RunState::Finished { wall_s },
+                };
+            }
+            Message::Exported(result) => {
+                self.status = match result {
+                    Ok(files) => format!(
+                        "exported to {}: {}",
+                        std::fs::canonicalize(&self.export_dir)
+                            .unwrap_or_else(|_| self.export_dir.clone())
+                            .display(),
+                        files
+                            .iter()
+                            .filter_map(|f| f.file_name())
+                            .map(|f| f.to_string_lossy().into_owned())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                    Err(e) => format!("export failed: {e}"),
+                };
+            }
+        }
+    }
+
+    /// Starts (or, after a cancel of the same grid, resumes) a run of the edited parameters.
+    fn start(&mut self) -> Command {
+        if self.running() {
+            self.status = "a sweep is running: c cancels it".into();
+            return Command::None;
+        }
+        let plan = self.params.plan.clone();
+        let resume = matches!(self.run, RunState::Cancelled { .. })
+            && plan.sweep_hash == self.table_plan.sweep_hash
+            && self.run_dir.is_some();
+        let dir = if resume {
+            self.run_dir.clone().expect("checked")
+        } else {
+            self.runs += 1;
+            self.entries = entries_of(&plan);
+            self.fields.clear();
+            self.selected = 0;
+            self.session.join(format!("run-{}", self.runs))
+        };
+        self.table_plan = plan.clone();
+        self.run_dir = Some(dir.clone());
+        self.run = RunState::Running;
+        self.to_run = 0;
+        self.done = 0;
+        self.run_started_s = self.now_s;
+        self.status.clear();
+        Command::Start {
+            plan: Box::new(plan),
+            dir,
+            resume,
+        }
+    }
+
+    /// With no results on the table and no run going, the table shows the edited grid.
+    fn follow_edits(&mut self) {
+        if !self.running() && self.entries.iter().all(|e| e.row.is_none()) {
+            self.table_plan = self.params.plan.clone();
+            self.entries = entries_of(&self.table_plan);
+            self.selected = 0;
+            self.sort.column = self.sort.column.min(self.sort_columns() - 1);
+        }
+    }
+
+    fn move_selection(&mut self, delta: isize) {
+        match self.focus {
+            Focus::Parameters => {
+                let n = self.params.fields.len() as isize;
+                self.cursor = (self.cursor as isize + delta).clamp(0, n - 1) as usize;
+            }
+            Focus::Results => {
+                let n = self.visible().len() as isize;
+                self.selected = (self.selected as isize + delta).clamp(0, (n - 1).max(0)) as usize;
+            }
+        }
+    }
+
+    /// The export folder that does not hold results yet: `NAME-export`, `NAME-export-2`, …
+    fn free_export_dir(&self) -> PathBuf {
+        let base = self.export_dir.clone();
+        let taken = |p: &Path| p.join("results.csv").exists();
+        if !taken(&base) {
+            return base;
+        }
+        (2..)
+            .map(|k| PathBuf::from(format!("{}-{k}", base.display())))
+            .find(|p| !taken(p))
+            .expect("some folder is free")
+    }
+
+    /// What a key does.
+    pub fn on_key(&mut self, key: KeyEvent) -> Command {
+        if key.modifiers.contains(KeyModifiers::CONTROL) && key.code == KeyCode::Char('c') {
+            return Command::Quit;
+        }
+        match self.mode.clone() {
+            Mode::Help => {
+                if key.code == KeyCode::Char('q') {
+                    return Command::Quit;
+                }
+                self.mode = Mode::Normal;
+                Command::None
+            }
+            Mode::Editing { mut buffer, .. } => {
+                match key.code {
+                    KeyCode::Esc => {
+                        self.mode = Mode::Normal;
+                        return Command::None;
+                    }
+                    KeyCode::Enter => {
+                        match self.params.commit(self.cursor, &buffer) {
+                            Ok(()) => {
+                                self.mode = Mode::Normal;
+                                self.follow_edits();
+                            }
+                            Err(e) => {
+                                self.mode = Mode::Editing {
+                                    buffer,
+                                    error: Some(e),
+                                }
+                            }
+                        }
+                        return Command::None;
+                    }
+                    KeyCode::Backspace => {
+                        buffer.pop();
+                    }
+                    KeyCode::Char(c) => buffer.push(c),
+                    _ => return Command::None,
+                }
+                let error = self.params.check(self.cursor, &buffer).err();
+                self.mode = Mode::Editing { buffer, error };
+                Command::None
+            }
+            Mode::Exporting { mut buffer } => {
+                match key.code {
+                    KeyCode::Esc => self.mode = Mode::Normal,
+                    KeyCode::Enter => {
+                        self.mode = Mode::Normal;
+                        let to = PathBuf::from(buffer.trim());
+                        if buffer.trim().is_empty() {
+                            self.status = "export: expected a folder".into();
+                            return Command::None;
+                        }
+                        if to.join("results.csv").exists() {
+                            self.status = format!(
+                                "export: {} already holds results; choose another folder",
+                                to.display()
+                            );
+                            return Command::None;
+                        }
+                        let Some(from) = self.run_dir.clone() else {
+                            return Command::None;
+                        };
+                        self.export_dir = to.clone();
+                        self.status = format!("exporting to {} …", to.display());
+                        return Command::Export { from, to };
+                    }
+                    KeyCode::Backspace => {
+                        buffer.pop();
+                        self.mode = Mode::Exporting { buffer };
+                    }
+                    KeyCode::Char(c) => {
+                        buffer.push(c);
+                        self.mode = Mode::Exporting { buffer };
+                    }
+                    _ => {}
+                }
+                Command::None
+            }
+            Mode::Detail => {
+                match key.code {
+                    KeyCode::Char('q') => return Command::Quit,
+                    KeyCode::Up | KeyCode::Char('k') => self.move_selection(-1),
+                    KeyCode::Down | KeyCode::Char('j') => self.move_selection(1),
+                    KeyCode::Char('?') => self.mode = Mode::Help,
+                    _ => self.mode = Mode::Normal,
+                }
+                Command::None
+            }
+            Mode::Normal => self.on_normal_key(key),
+        }
+    }
+
+    fn on_normal_key(&mut self, key: KeyEvent) -> Command {
+        match key.code {
+            KeyCode::Char('q') => return Command::Quit,
+            KeyCode::Char('?') => self.mode = Mode::Help,
+            KeyCode::Tab | KeyCode::BackTab => {
+                self.focus = match self.focus {
+                    Focus::Parameters => Focus::Results,
+                    Focus::Results => Focus::Parameters,
+                }
+            }
+            KeyCode::Char('r') => return self.start(),
+            KeyCode::Char('c') | KeyCode::Esc if self.run == RunState::Running => {
+                self.run = RunState::Stopping;
+                self.status =
+                    "cancelling: the designs on the workers stop at their next load step".into();
+                return Command::Cancel;
+            }
+            KeyCode::Char('e') => {
+                if self.entries.iter().any(|e| e.row.is_some()) && self.run_dir.is_some() {
+                    self.mode = Mode::Exporting {
+                        buffer: self.free_export_dir().display().to_string(),
+                    };
+                } else {
+                    self.status = "nothing to export yet: r runs the sweep".into();
+                }
+            }
+            KeyCode::Char('s') => {
+                self.sort.column = (self.sort.column + 1) % self.sort_columns();
+                self.sort.descending = false;
+            }
+            KeyCode::Char('S') => self.sort.descending = !self.sort.descending,
+            KeyCode::Char('f') => {
+                self.feasible_only = !self.feasible_only;
+                self.selected = 0;
+            }
+            KeyCode::Up | KeyCode::Char('k') => self.move_selection(-1),
+            KeyCode::Down | KeyCode::Char('j') => self.move_selection(1),
+            KeyCode::PageUp => self.move_selection(-10),
+            KeyCode::PageDown => self.move_selection(10),
+            KeyCode::Home | KeyCode::Char('g') => self.move_selection(-1_000_000),
+            KeyCode::End | KeyCode::Char('G') => self.move_selection(1_000_000),
+            KeyCode::Left | KeyCode::Right
+                if self.focus == Focus::Parameters
+                    && self.params.fields[self.cursor].target == Target::Accuracy =>
+            {
+                self.params.step_accuracy(key.code == KeyCode::Right);
+                self.follow_edits();
+            }
+            KeyCode::Enter => match self.focus {
+                Focus::Parameters => {
+                    self.mode = Mode::Editing {
+                        buffer: self.params.fields[self.cursor].text.clone(),
+                        error: None,
+                    }
+                }
+                Focus::Results => {
+                    if self.selected_entry().is_some() {
+                        self.mode = Mode::Detail;
+                    }
+                }
+            },
+            _ => {}
+        }
+        Command::None
+    }
+}

@@ -1,0 +1,140 @@
+//! The terminal explorer (ratatui + crossterm): edit the sweep's parameters, run it on worker
+//! threads (the headless sweep engine), watch the results table fill, inspect a design's shear
+//! map, export the report.
+//!
+//! `app` holds the state and the keys, `view` draws it, `worker` runs sweeps and exports off
+//! the interface thread, `params` checks and turns the edited parameters into a plan.
+
+pub mod app;
+pub mod params;
+pub mod shear_map;
+pub mod view;
+pub mod worker;
+
+use std::io::{self, Stdout};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use ratatui::Terminal;
+use ratatui::backend::CrosstermBackend;
+use ratatui::crossterm::event::{self, Event, KeyEventKind};
+use ratatui::crossterm::execute;
+use ratatui::crossterm::terminal::{
+    EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
+};
+
+use app::{App, Command};
+use params::{Parameters, Source};
+
+/// Whether the terminal shows colours: not with `NO_COLOR` set or `TERM=dumb`.
+pub fn colour_wanted() -> bool {
+    std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
+        && std::env::var("TERM").map_or(true, |t| t != "dumb")
+}
+
+/// The sweep document of a sweep file.
+pub fn source_of_file(path: &std::path::Path) -> Result<Source, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read the sweep file: {e}", path.display()))?;
+    let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        format!(
+            "{}: not valid TOML: {}",
+            path.display(),
+            e.to_string().trim_end()
+        )
+    })?;
+    Ok(Source {
+        path: path.to_path_buf(),
+        title: path.display().to_string(),
+        doc,
+    })
+}
+
+fn restore() {
+    let _ = disable_raw_mode();
+    let _ = execute!(io::stdout(), LeaveAlternateScreen);
+}
+
+/// Restores the terminal on a panic of the interface thread (a panic on a worker is caught
+/// by the sweep and becomes a FAILED row; its message would only garble the screen).
+fn install_panic_hook() {
+    let ui = std::thread::current().id();
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::thread::current().id() == ui {
+            restore();
+            previous(info);
+        }
+    }));
+}
+
+/// Opens the explorer on a sweep document and runs it until the user quits. The runs are
+/// written under `session` (a folder per run), so that nothing is lost on a crash.
+pub fn explore(params: Parameters, session: PathBuf) -> Result<(), String> {
+    let mut app = App::new(params, session.clone(), colour_wanted());
+    enable_raw_mode().map_err(|e| format!("cannot take the terminal: {e}"))?;
+    if let Err(e) = execute!(io::stdout(), EnterAlternateScreen) {
+        restore();
+        return Err(format!("cannot take the terminal: {e}"));
+    }
+    install_panic_hook();
+    let outcome = Terminal::new(CrosstermBackend::new(io::stdout()))
+        .map_err(|e| format!("cannot draw on the terminal: {e}"))
+        .and_then(|mut terminal| event_loop(&mut terminal, &mut app));
+    restore();
+    if app.runs > 0 {
+        eprintln!(
+            "wovenform explorer: the rows of this session are kept in {} (wovenform merge DIR --out OUT exports one)",
+            session.display()
+        );
+    }
+    outcome
+}
+
+fn event_loop(
+    terminal: &mut Terminal<CrosstermBackend<Stdout>>,
+    app: &mut App,
+) -> Result<(), String> {
+    let opened = Instant::now();
+    let (tx, rx) = mpsc::channel();
+    let mut stop: Option<Arc<AtomicBool>> = None;
+    loop {
+        app.now_s = opened.elapsed().as_secs_f64();
+        while let Ok(m) = rx.try_recv() {
+            app.on_message(m);
+        }
+        terminal
+            .draw(|f| view::draw(f, app))
+            .map_err(|e| format!("cannot draw on the terminal: {e}"))?;
+        if !event::poll(Duration::from_millis(100)).map_err(|e| e.to_string())? {
+            continue;
+        }
+        let Event::Key(key) = event::read().map_err(|e| e.to_string())? else {
+            continue;
+        };
+        if key.kind != KeyEventKind::Press {
+            continue;
+        }
+        match app.on_key(key) {
+            Command::None => {}
+            Command::Quit => {
+                if let Some(s) = &stop {
+                    s.store(true, Ordering::Relaxed);
+                }
+                return Ok(());
+            }
+            Command::Cancel => {
+                if let Some(s) = &stop {
+                    s.store(true, Ordering::Relaxed);
+                }
+            }
+            Command::Start { plan, dir, resume } => {
+                stop = Some(worker::start_sweep(*plan, dir, resume, None, tx.clone()));
+            }
+            Command::Export { from, to } => worker::start_export(from, to, tx.clone()),
+        }
+    }
+}

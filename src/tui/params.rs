@@ -1,0 +1,425 @@
+//! The explorer's parameters: the ranges of the swept scene keys, the locking angle and the
+//! accuracy level, as text the user edits, checked against the scene's bounds as they type,
+//! and turned into a sweep plan.
+
+use std::path::PathBuf;
+
+use crate::accuracy::Accuracy;
+use crate::scene::{Override, Scene};
+use crate::sweep::{Plan, show_value, unit_of};
+
+/// At most this many designs are run from the explorer (the headless sweep takes more).
+pub const MAX_DESIGNS: usize = 2000;
+
+/// The sweep document the explorer starts from: a sweep file, or the embedded default.
+#[derive(Clone, Debug)]
+pub struct Source {
+    /// Names the document in errors and places a relative `base` file.
+    pub path: PathBuf,
+    /// What the title bar calls it.
+    pub title: String,
+    pub doc: toml::Table,
+}
+
+/// The embedded default: the paper's square box (the open-box preset as the base scene) with
+/// the paper's tight and open radii, friction 0.2, holder pressure 1 MPa: 8 designs.
+pub fn default_source() -> Source {
+    let base: toml::Table = include_str!("../../presets/paper-box-open.toml")
+        .parse()
+        .expect("the embedded preset is valid TOML");
+    let mut sweep = toml::Table::new();
+    let list = |v: &[f64]| toml::Value::Array(v.iter().map(|x| toml::Value::Float(*x)).collect());
+    sweep.insert("r".into(), list(&[5.0, 10.0]));
+    sweep.insert("rp".into(), list(&[6.0, 15.0]));
+    sweep.insert("rm".into(), list(&[5.0, 10.0]));
+    sweep.insert("friction".into(), list(&[0.2]));
+    sweep.insert("holder_pressure".into(), list(&[1.0]));
+    let mut doc = toml::Table::new();
+    doc.insert("scene".into(), toml::Value::Table(base));
+    doc.insert("sweep".into(), toml::Value::Table(sweep));
+    Source {
+        path: PathBuf::from("paper-box-explorer"),
+        title: "paper box (default)".into(),
+        doc,
+    }
+}
+
+/// What a parameter line edits.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Target {
+    /// A swept scene key: its column name in the results and its dotted key.
+    Axis {
+        column: String,
+        key: String,
+    },
+    LockingAngle,
+    Accuracy,
+}
+
+/// One line of the parameters panel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Field {
+    pub target: Target,
+    /// The label shown (the column's short name).
+    pub label: String,
+    pub unit: &'static str,
+    /// The committed text (always valid).
+    pub text: String,
+}
+
+/// The parameters as edited, and the plan they make.
+#[derive(Clone, Debug)]
+pub struct Parameters {
+    pub source: Source,
+    pub fields: Vec<Field>,
+    pub locking_angle_deg: f64,
+    pub accuracy: Accuracy,
+    /// The plan of the committed fields.
+    pub plan: Plan,
+}
+
+/// `start..stop/count` → the values, both ends included.
+fn range_values(text: &str) -> Option<Result<Vec<f64>, String>> {
+    let (span, count) = text.split_once('/')?;
+    let (a, b) = span.split_once("..")?;
+    let parse = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
+    Some(match (parse(a), parse(b), count.trim().parse::<usize>()) {
+        (Some(a), Some(b), Ok(n)) if (1..=MAX_DESIGNS).contains(&n) => Ok((0..n)
+            .map(|i| {
+                let v = if n == 1 {
+                    a
+                } else {
+                    a + (b - a) * i as f64 / (n - 1) as f64
+                };
+                format!("{v:.10e}").parse().unwrap_or(v)
+            })
+            .collect()),
+        _ => Err(format!(
+            "{text:?}: a range is start..stop/count, e.g. 5..10/3 (count 1 to {MAX_DESIGNS})"
+        )),
+    })
+}
+
+/// Reads a list of values typed by the user: `5, 7.5, 10`, or a range `5..10/3`.
+pub fn parse_list(text: &str, base: &toml::Value) -> Result<Vec<toml::Value>, String> {
+    let t = text.trim();
+    if t.is_empty() {
+        return Err("empty: expected one value or more, e.g. 5, 7.5, 10 or 5..10/3".into());
+    }
+    if let Some(range) = range_values(t) {
+        return range.map(|v| v.into_iter().map(toml::Value::Float).collect());
+    }
+    let doc: toml::Table = format!("v = [{t}]").parse().map_err(|_| {
+        format!("{t:?}: expected values separated by commas, e.g. 5, 7.5, 10 or 5..10/3")
+    })?;
+    let Some(toml::Value::Array(values)) = doc.get("v") else {
+        return Err(format!("{t:?}: expected a list of values"));
+    };
+    let numeric = matches!(base, toml::Value::Float(_) | toml::Value::Integer(_));
+    values
+        .iter()
+        .map(|v| match (v, base) {
+            (toml::Value::Integer(i), toml::Value::Float(_)) => Ok(toml::Value::Float(*i as f64)),
+            (toml::Value::Float(f), _) if !f.is_finite() => {
+                Err(format!("{f}: expected a finite number"))
+            }
+            (toml::Value::Float(_) | toml::Value::Integer(_), _) if numeric => Ok(v.clone()),
+            _ if numeric => Err(format!("{}: expected a number", show_value(v))),
+            _ if std::mem::discriminant(v) == std::mem::discriminant(base) => Ok(v.clone()),
+            _ => Err(format!(
+                "{}: expected a value like {}",
+                show_value(v),
+                show_value(base)
+            )),
+        })
+        .collect()
+}
+
+fn list_text(values: &[toml::Value]) -> String {
+    values.iter().map(show_value).collect::<Vec<_>>().join(", ")
+}
+
+impl Parameters {
+    /// The parameters of a sweep document: its axes, and the scene's other sweepable keys at
+    /// their base values.
+    pub fn new(source: Source) -> Result<Parameters, String> {
+        let plan =
+            Plan::from_document(&source.path, &source.doc, &[]).map_err(|e| e.to_string())?;
+        let locking_angle_deg = plan.base_scene.fabric.locking_angle_deg;
+        let h = plan.base_scene.mesh.element_size;
+        // The level nearest the scene's own mesh.
+        let accuracy = Accuracy::ALL
+            .into_iter()
+            .min_by(|a, b| {
+                let d = |x: &Accuracy| (x.element_size_mm() / h).ln().abs();
+                d(a).total_cmp(&d(b))
+            })
+            .unwrap_or(Accuracy::Standard);
+        let mut fields: Vec<Field> = plan
+            .columns()
+            .into_iter()
+            .map(|c| {
+                let values = match c.axis {
+                    Some(a) => plan.axes[a].values.clone(),
+                    None => plan
+                        .designs()
+                        .first()
+                        .map(|d| {
+                            plan.params(std::slice::from_ref(&c), d)
+                                .into_iter()
+                                .map(|(_, v)| v)
+                                .collect()
+                        })
+                        .unwrap_or_default(),
+                };
+                Field {
+                    label: match c.name.as_str() {
+                        "holder_pressure" => "holder".into(),
+                        n => n.rsplit('.').next().unwrap_or(n).into(),
+                    },
+                    unit: unit_of(&c.key),
+                    text: list_text(&values),
+                    target: Target::Axis {
+                        column: c.name,
+                        key: c.key,
+                    },
+                }
+            })
+            .collect();
+        fields.push(Field {
+            target: Target::LockingAngle,
+            label: "locking".into(),
+            unit: "°",
+            text: show_value(&toml::Value::Float(locking_angle_deg)),
+        });
+        fields.push(Field {
+            target: Target::Accuracy,
+            label: "accuracy".into(),
+            unit: "",
+            text: accuracy.name().into(),
+        });
+        let mut p = Parameters {
+            source,
+            fields,
+            locking_angle_deg,
+            accuracy,
+            plan,
+        };
+        p.plan = p.build()?;
+        Ok(p)
+    }
+
+    /// The `--set` overrides of the locking angle and the accuracy level.
+    fn sets(&self) -> Vec<String> {
+        let mut sets = vec![format!(
+            "fabric.locking_angle_deg={:?}",
+            self.locking_angle_deg
+        )];
+        sets.extend(self.accuracy.overrides());
+        sets
+    }
+
+    /// The plan of the committed fields.
+    fn build(&self) -> Result<Plan, String> {
+        let mut doc = self.source.doc.clone();
+        let mut sweep = toml::Table::new();
+        for f in &self.fields {
+            if let Target::Axis { column, key } = &f.target {
+                let base = self.base_value(key);
+                let values = parse_list(&f.text, &base)?;
+                sweep.insert(column.clone(), toml::Value::Array(values));
+            }
+        }
+        doc.insert("sweep".into(), toml::Value::Table(sweep));
+        Plan::from_document(&self.source.path, &doc, &self.sets()).map_err(|e| e.to_string())
+    }
+
+    /// The base scene's value of a key (what the typed values must look like).
+    fn base_value(&self, key: &str) -> toml::Value {
+        let table = toml::Table::try_from(&self.plan.base_scene).unwrap_or_default();
+        let mut v = toml::Value::Table(table);
+        for part in key.split('.') {
+            v = match v {
+                toml::Value::Table(mut t) => t.remove(part).unwrap_or(toml::Value::Float(0.0)),
+                _ => return toml::Value::Float(0.0),
+            };
+        }
+        v
+    }
+
+    /// Whether the base scene with `key = value` over it keeps its bounds: the scene's
+    /// message (which names the key) when it does not.
+    fn check_value(&self, key: &str, value: &toml::Value) -> Result<(), String> {
+        let mut sets: Vec<Override> = self.sets().iter().filter_map(|s| s.parse().ok()).collect();
+        sets.push(Override {
+            key: key.to_string(),
+            value: value.clone(),
+            text: format!("{key}={}", show_value(value)),
+        });
+        Scene::from_toml_str(&self.plan.base_text, &self.plan.base_origin, &sets)
+            .map(|_| ())
+            .map_err(|e| e.detail)
+    }
+
+    /// Checks the text typed into field `index` (as the user types): what is wrong with it,
+    /// naming the value and what was expected.
+    pub fn check(&self, index: usize, text: &str) -> Result<(), String> {
+        let Some(field) = self.fields.get(index) else {
+            return Err("no such parameter".into());
+        };
+        match &field.target {
+            Target::Accuracy => Accuracy::parse(text).map(|_| ()),
+            Target::LockingAngle => {
+                let v: f64 = text
+                    .trim()
+                    .parse()
+                    .ok()
+                    .filter(|v: &f64| v.is_finite())
+                    .ok_or_else(|| {
+                        format!(
+                            "{:?}: expected the locking angle in degrees, e.g. 60",
+                            text.trim()
+                        )
+                    })?;
+                self.check_value("fabric.locking_angle_deg", &toml::Value::Float(v))
+            }
+            Target::Axis { key, .. } => {
+                let values = parse_list(text, &self.base_value(key))?;
+                for v in &values {
+                    self.check_value(key, v)?;
+                }
+                let others: usize = self
+                    .fields
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, _)| *i != index)
+                    .filter_map(|(_, f)| match &f.target {
+                        Target::Axis { key, .. } => parse_list(&f.text, &self.base_value(key))
+                            .ok()
+                            .map(|v| v.len()),
+                        _ => None,
+                    })
+                    .product();
+                let total = others.saturating_mul(values.len());
+                if total > MAX_DESIGNS {
+                    return Err(format!(
+                        "{total} designs: the explorer runs at most {MAX_DESIGNS}; use `wovenform sweep` for more"
+                    ));
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Commits the text of field `index` when it checks; the plan follows.
+    pub fn commit(&mut self, index: usize, text: &str) -> Result<(), String> {
+        self.check(index, text)?;
+        let old = self.clone();
+        let field = &mut self.fields[index];
+        match field.target {
+            Target::Accuracy => {
+                self.accuracy = Accuracy::parse(text)?;
+                field.text = self.accuracy.name().into();
+            }
+            Target::LockingAngle => {
+                self.locking_angle_deg = text.trim().parse().map_err(|_| "not a number")?;
+                field.text = show_value(&toml::Value::Float(self.locking_angle_deg));
+            }
+            Target::Axis { ref key, .. } => {
+                let base = old.base_value(key);
+                field.text = list_text(&parse_list(text, &base)?);
+            }
+        }
+        match self.build() {
+            Ok(plan) => {
+                self.plan = plan;
+                Ok(())
+            }
+            Err(e) => {
+                *self = old;
+                Err(e)
+            }
+        }
+    }
+
+    /// The accuracy level one step up or down.
+    pub fn step_accuracy(&mut self, up: bool) {
+        let next = self.accuracy.step(up);
+        if let Some(i) = self
+            .fields
+            .iter()
+            .position(|f| f.target == Target::Accuracy)
+        {
+            let _ = self.commit(i, next.name());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_and_ranges_are_read() {
+        let f = toml::Value::Float(1.0);
+        assert_eq!(
+            parse_list("5, 7.5,10", &f).unwrap(),
+            [5.0, 7.5, 10.0].map(toml::Value::Float)
+        );
+        assert_eq!(
+            parse_list("5..10/3", &f).unwrap(),
+            [5.0, 7.5, 10.0].map(toml::Value::Float)
+        );
+        assert!(
+            parse_list("5..10/0", &f)
+                .unwrap_err()
+                .contains("start..stop/count")
+        );
+        assert!(
+            parse_list("5, x", &f)
+                .unwrap_err()
+                .contains("separated by commas")
+        );
+        assert!(parse_list("", &f).unwrap_err().contains("empty"));
+        assert!(
+            parse_list("true", &f)
+                .unwrap_err()
+                .contains("expected a number")
+        );
+    }
+
+    #[test]
+    fn the_default_shows_the_box_parameters_and_checks_bounds() {
+        let p = Parameters::new(default_source()).unwrap();
+        let labels: Vec<&str> = p.fields.iter().map(|f| f.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            ["r", "rp", "rm", "friction", "holder", "locking", "accuracy"]
+        );
+        assert_eq!(p.plan.len(), 8);
+        assert_eq!(p.fields[0].text, "5, 10");
+        let err = p.check(0, "-1").unwrap_err();
+        assert!(err.contains("tools.r"), "{err}");
+        assert!(p.check(3, "0.1, 0.3").is_ok());
+        assert!(p.check(3, "1.5").unwrap_err().contains("process.friction"));
+        assert!(
+            p.check(6, "fast")
+                .unwrap_err()
+                .contains("coarse, standard or fine")
+        );
+    }
+
+    #[test]
+    fn commits_change_the_plan() {
+        let mut p = Parameters::new(default_source()).unwrap();
+        p.commit(3, "0.1..0.3/3").unwrap();
+        assert_eq!(p.plan.len(), 24);
+        assert_eq!(p.fields[3].text, "0.1, 0.2, 0.3");
+        p.commit(5, "55").unwrap();
+        assert_eq!(p.plan.base_scene.fabric.locking_angle_deg, 55.0);
+        p.step_accuracy(false);
+        assert_eq!(p.plan.base_scene.mesh.element_size, 5.0);
+        assert!(p.commit(0, "-3").is_err());
+        assert_eq!(p.fields[0].text, "5, 10");
+    }
+}

@@ -1,0 +1,208 @@
+//! The explorer's keys, through its state: what each key changes and which command it asks
+//! of the event loop.
+
+mod tui_common;
+
+use std::path::PathBuf;
+
+use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use tui_common::*;
+use wovenform::tui::app::{Command, Focus, Mode, RunState};
+use wovenform::tui::worker::Message;
+
+#[test]
+fn r_starts_the_grid_in_a_fresh_run_folder_and_not_twice() {
+    let mut app = explorer(false);
+    match app.on_key(key(KeyCode::Char('r'))) {
+        Command::Start { plan, dir, resume } => {
+            assert_eq!(plan.len(), 8);
+            assert_eq!(dir, PathBuf::from("/session/run-1"));
+            assert!(!resume);
+        }
+        other => panic!("expected a start, got {other:?}"),
+    }
+    assert_eq!(app.run, RunState::Running);
+    assert_eq!(app.on_key(key(KeyCode::Char('r'))), Command::None);
+    assert!(app.status.contains("running"), "{}", app.status);
+}
+
+#[test]
+fn cancel_keeps_the_rows_and_r_resumes_the_same_folder() {
+    let mut app = explorer(false);
+    app.on_key(key(KeyCode::Char('r')));
+    app.on_message(Message::Started { to_run: 8, kept: 0 });
+    deliver(&mut app, &[0, 7]);
+    assert_eq!(app.on_key(key(KeyCode::Char('c'))), Command::Cancel);
+    assert_eq!(app.run, RunState::Stopping);
+    app.on_message(Message::Finished {
+        stopped: true,
+        wall_s: 6.0,
+        error: None,
+    });
+    assert_eq!(app.run, RunState::Cancelled { wall_s: 6.0 });
+    assert_eq!(app.counts(), (2, 1));
+    match app.on_key(key(KeyCode::Char('r'))) {
+        Command::Start { dir, resume, .. } => {
+            assert!(resume);
+            assert_eq!(dir, PathBuf::from("/session/run-1"));
+        }
+        other => panic!("expected a resume, got {other:?}"),
+    }
+    // The rows stay on the table while the rest runs.
+    assert_eq!(app.counts(), (2, 1));
+}
+
+#[test]
+fn editing_checks_as_you_type_and_commits_only_valid_values() {
+    let mut app = explorer(false);
+    app.on_key(key(KeyCode::Tab));
+    assert_eq!(app.focus, Focus::Parameters);
+    app.on_key(key(KeyCode::Down)); // rp
+    app.on_key(key(KeyCode::Enter));
+    assert_eq!(
+        app.mode,
+        Mode::Editing {
+            buffer: "6, 15".into(),
+            error: None
+        }
+    );
+    type_text(&mut app, ", 40");
+    // rp = 40 mm cannot fit the 28 mm stroke of a 60 mm punch: the scene says why.
+    let Mode::Editing { error: Some(e), .. } = &app.mode else {
+        panic!("expected an error, got {:?}", app.mode)
+    };
+    assert!(e.contains("tools.rp"), "{e}");
+    app.on_key(key(KeyCode::Enter));
+    assert!(matches!(app.mode, Mode::Editing { error: Some(_), .. }));
+    for _ in 0..4 {
+        app.on_key(key(KeyCode::Backspace));
+    }
+    type_text(&mut app, ", 10.5");
+    assert!(matches!(app.mode, Mode::Editing { error: None, .. }));
+    app.on_key(key(KeyCode::Enter));
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(app.params.fields[1].text, "6, 15, 10.5");
+    // Nothing ran yet: the table follows the edit.
+    assert_eq!(app.entries.len(), 12);
+    // Accuracy by ← →.
+    app.on_key(key(KeyCode::End));
+    app.on_key(key(KeyCode::Left));
+    assert_eq!(app.params.plan.base_scene.mesh.element_size, 5.0);
+    app.on_key(key(KeyCode::Right));
+    app.on_key(key(KeyCode::Right));
+    assert_eq!(app.params.plan.base_scene.mesh.element_size, 1.25);
+}
+
+#[test]
+fn editing_after_a_run_marks_the_table_as_the_previous_grid() {
+    let mut app = explorer(false);
+    finished_run(&mut app);
+    press(
+        &mut app,
+        &[KeyCode::Tab, KeyCode::Down, KeyCode::Down, KeyCode::Down],
+    );
+    app.on_key(key(KeyCode::Enter));
+    type_text(&mut app, ", 0.3");
+    app.on_key(key(KeyCode::Enter));
+    assert!(app.edited());
+    assert_eq!(app.entries.len(), 8, "the results stay until the next run");
+    match app.on_key(key(KeyCode::Char('r'))) {
+        Command::Start { plan, dir, resume } => {
+            assert_eq!(plan.len(), 16);
+            assert_eq!(dir, PathBuf::from("/session/run-2"));
+            assert!(!resume);
+        }
+        other => panic!("expected a start, got {other:?}"),
+    }
+    assert_eq!(app.entries.len(), 16);
+    assert_eq!(app.counts(), (0, 0));
+}
+
+#[test]
+fn sorting_and_the_feasible_filter() {
+    let mut app = explorer(false);
+    finished_run(&mut app);
+    // #, r, rp, rm, friction, holder_pressure, then shear.
+    press(&mut app, &[KeyCode::Char('s'); 6]);
+    assert_eq!(app.sort_name(app.sort.column), "shear");
+    let order: Vec<usize> = app
+        .visible()
+        .iter()
+        .map(|&i| app.entries[i].design.index)
+        .collect();
+    let shear = |i: usize| FIGURES[i].0;
+    assert!(
+        order.windows(2).all(|w| shear(w[0]) <= shear(w[1])),
+        "{order:?}"
+    );
+    assert_eq!(order[0], 7, "the open design has the least shear");
+    app.on_key(key(KeyCode::Char('S')));
+    assert_eq!(app.entries[app.visible()[0]].design.index, 0);
+    app.on_key(key(KeyCode::Char('f')));
+    let feasible: Vec<usize> = app
+        .visible()
+        .iter()
+        .map(|&i| app.entries[i].design.index)
+        .collect();
+    assert_eq!(feasible, [7]);
+    // After shear: tension, force, verdict, time, then round to the design number.
+    press(&mut app, &[KeyCode::Char('s'); 5]);
+    assert_eq!(app.sort.column, 0);
+}
+
+#[test]
+fn detail_help_export_and_quit() {
+    let mut app = explorer(false);
+    // Nothing to export before a run.
+    assert_eq!(app.on_key(key(KeyCode::Char('e'))), Command::None);
+    assert!(app.status.contains("nothing to export"));
+    finished_run(&mut app);
+    app.on_key(key(KeyCode::Down));
+    app.on_key(key(KeyCode::Enter));
+    assert_eq!(app.mode, Mode::Detail);
+    assert_eq!(app.selected_entry().unwrap().design.index, 1);
+    app.on_key(key(KeyCode::Down));
+    assert_eq!(app.selected_entry().unwrap().design.index, 2);
+    app.on_key(key(KeyCode::Esc));
+    assert_eq!(app.mode, Mode::Normal);
+    app.on_key(key(KeyCode::Char('?')));
+    assert_eq!(app.mode, Mode::Help);
+    app.on_key(key(KeyCode::Char('x')));
+    assert_eq!(app.mode, Mode::Normal);
+    app.on_key(key(KeyCode::Char('e')));
+    let Mode::Exporting { buffer } = app.mode.clone() else {
+        panic!("expected the export prompt, got {:?}", app.mode)
+    };
+    assert_eq!(buffer, "paper-box-explorer-export");
+    type_text(&mut app, "-a");
+    assert_eq!(
+        app.on_key(key(KeyCode::Enter)),
+        Command::Export {
+            from: PathBuf::from("/session/run-1"),
+            to: PathBuf::from("paper-box-explorer-export-a"),
+        }
+    );
+    app.on_message(Message::Exported(Ok(vec![PathBuf::from("x/report.png")])));
+    assert!(app.status.contains("report.png"), "{}", app.status);
+    assert_eq!(app.on_key(key(KeyCode::Char('q'))), Command::Quit);
+    let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
+    assert_eq!(app.on_key(ctrl_c), Command::Quit);
+}
+
+#[test]
+fn invalid_and_failed_designs_show_their_reason() {
+    let mut app = explorer(false);
+    app.on_key(key(KeyCode::Char('r')));
+    let mut bad = row(&app, 3, FIGURES[3]);
+    bad.verdict = wovenform::report::sheet::Verdict::Failed;
+    bad.converged = false;
+    bad.failure = Some("the step from load 0.9100 could not converge".into());
+    app.on_message(Message::Row(Box::new(bad)));
+    press(
+        &mut app,
+        &[KeyCode::Down, KeyCode::Down, KeyCode::Down, KeyCode::Enter],
+    );
+    let s = screen(&mut app, 80, 24);
+    assert!(s.contains("! failed"), "{s}");
+    assert!(s.contains("could not converge"), "{s}");
+}
