@@ -95,3 +95,117 @@ pub fn element_rate(repetitions: usize) -> Rate {
         n
     })
 }
+
+/// The paper's open box (the preset, `standard`: 2.5 mm elements), as a problem on one thread.
+pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
+    let scene = crate::scene::Scene::from_toml_str(
+        include_str!("../presets/paper-box-open.toml"),
+        "presets/paper-box-open.toml",
+        &[],
+    )
+    .expect("the embedded preset is valid");
+    let mut p = scene.to_problem();
+    p.element_size = element_size_mm;
+    p.solver.parallel = false;
+    p
+}
+
+/// A whole run of the paper's open box, and where one Newton iteration's time goes.
+#[derive(Clone, Debug)]
+pub struct BoxRun {
+    pub dofs: usize,
+    pub steps: u32,
+    pub newton_iterations: u32,
+    /// Median and all repetitions of the whole run's wall time, s.
+    pub wall_s: f64,
+    pub samples: Vec<f64>,
+    /// Per Newton iteration (from the median run), s: the element assembly (law, element
+    /// forces and tangents into the sparse matrix), the contact terms, the factorization and
+    /// solve, and the rest (line search, step bookkeeping, outputs).
+    pub assembly_s: f64,
+    pub contact_s: f64,
+    pub factor_solve_s: f64,
+    pub other_s: f64,
+}
+
+impl BoxRun {
+    /// One Newton iteration's wall time over that of its factorization + solve alone.
+    pub fn iteration_over_factor_solve(&self) -> f64 {
+        (self.assembly_s + self.contact_s + self.factor_solve_s + self.other_s)
+            / self.factor_solve_s
+    }
+}
+
+/// Runs the open box `repetitions` times on one thread.
+pub fn paper_box_run(element_size_mm: f64, repetitions: usize) -> BoxRun {
+    let p = paper_box(element_size_mm);
+    let mut runs: Vec<crate::core::drawing::DrawingResult> = (0..repetitions.max(1))
+        .map(|_| crate::core::drawing::solve(&p, &mut |_| {}))
+        .collect();
+    let samples: Vec<f64> = runs.iter().map(|r| r.wall_s).collect();
+    runs.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+    let r = &runs[runs.len() / 2];
+    let n = r.stats.newton_iterations.max(1) as f64;
+    let (a, c, f) = (r.stats.assembly_s, r.stats.nodal_s, r.stats.factor_solve_s);
+    BoxRun {
+        dofs: r.dofs,
+        steps: r.stats.steps,
+        newton_iterations: r.stats.newton_iterations,
+        wall_s: median(samples.clone()),
+        samples,
+        assembly_s: a / n,
+        contact_s: c / n,
+        factor_solve_s: f / n,
+        other_s: (r.wall_s - a - c - f).max(0.0) / n,
+    }
+}
+
+/// Wall time against dofs over a mesh ladder of the open box (one run each, one thread), and
+/// the least-squares exponent of `wall ∝ dofs^k`.
+pub fn dof_scaling(sizes_mm: &[f64]) -> (Vec<(usize, f64)>, f64) {
+    let points: Vec<(usize, f64)> = sizes_mm
+        .iter()
+        .map(|&h| {
+            let r = crate::core::drawing::solve(&paper_box(h), &mut |_| {});
+            (r.dofs, r.wall_s)
+        })
+        .collect();
+    let xy: Vec<(f64, f64)> = points
+        .iter()
+        .map(|&(d, w)| ((d as f64).ln(), w.ln()))
+        .collect();
+    let n = xy.len() as f64;
+    let (mx, my) = (
+        xy.iter().map(|p| p.0).sum::<f64>() / n,
+        xy.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = xy.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = xy.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    (points, sxy / sxx)
+}
+
+/// Designs per minute of the explorer's default grid (the paper's tight and open radii,
+/// 8 designs) at `coarse` accuracy with `jobs` workers, written into a temporary folder.
+pub fn sweep_throughput(jobs: usize) -> Result<f64, String> {
+    use crate::tui::params::{Parameters, default_source};
+    let mut params = Parameters::new(default_source())?;
+    params.step_accuracy(false);
+    let plan = params.plan.clone();
+    let dir = std::env::temp_dir().join(format!(
+        "wovenform-bench-{}-{jobs}-{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0)
+    ));
+    let options = crate::sweep::Options {
+        jobs: Some(jobs),
+        skip_report: true,
+        ..Default::default()
+    };
+    let outcome = crate::sweep::run(&plan, &dir, &options, &|_| {}).map_err(|e| e.to_string());
+    let _ = std::fs::remove_dir_all(&dir);
+    let outcome = outcome?;
+    Ok(outcome.ran as f64 / outcome.run_wall_s * 60.0)
+}

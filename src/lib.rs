@@ -2,6 +2,7 @@
 //! and a design-space explorer around it.
 pub mod accuracy;
 pub mod bench;
+pub mod converge;
 pub mod core;
 pub mod fit;
 pub mod report;

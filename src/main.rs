@@ -11,6 +11,7 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
+use wovenform::accuracy::Accuracy;
 use wovenform::core::drawing;
 use wovenform::core::law::{CellLaw, CellParams};
 use wovenform::fit::{self as fitting, FitOptions, STRAIN_RANGE};
@@ -48,9 +49,32 @@ enum Command {
     Fit(FitArgs),
     /// Measure throughput on this machine (one thread; medians of several repetitions).
     Bench(BenchArgs),
+    /// Solve a scene on a ladder of mesh sizes and of load-step counts: each rung's error
+    /// against a Richardson extrapolation, next to its run time (converge.csv, converge.png).
+    Converge(ConvergeArgs),
     /// The terminal explorer on a sweep file (without one: the paper's square box). Also what
     /// `wovenform` alone opens in a terminal.
     Tui(TuiArgs),
+}
+
+#[derive(Args, Debug)]
+struct ConvergeArgs {
+    /// Scene file (TOML).
+    #[arg(value_name = "SCENE.toml")]
+    scene: PathBuf,
+    /// Override one scene key; VALUE is a TOML literal. Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Output folder.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Element sizes of the mesh ladder, mm, coarse to fine (default: the scene's size times
+    /// 2, √2, 1, 1/√2, 1/2).
+    #[arg(long, value_delimiter = ',', value_name = "MM,MM,...")]
+    sizes: Vec<f64>,
+    /// Least load-step counts of the step ladder, few to many (default 4,8,16,32,64).
+    #[arg(long, value_delimiter = ',', value_name = "N,N,...")]
+    steps: Vec<u32>,
 }
 
 #[derive(Args, Debug)]
@@ -75,6 +99,10 @@ struct RunArgs {
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     json: bool,
+    /// Accuracy level: coarse (5 mm elements), standard (2.5 mm) or fine (1.25 mm); sets
+    /// mesh.element_size (a --set of it wins) and reports the level's measured error.
+    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
+    accuracy: Option<Accuracy>,
 }
 
 #[derive(Args, Debug)]
@@ -97,6 +125,10 @@ struct SweepArgs {
     /// Continue a sweep in DIR: keep its rows for this base scene, run the missing designs.
     #[arg(long)]
     resume: bool,
+    /// Accuracy level: coarse (5 mm elements), standard (2.5 mm) or fine (1.25 mm); sets
+    /// mesh.element_size (a --set of it wins) and reports the level's measured error.
+    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
+    accuracy: Option<Accuracy>,
 }
 
 #[derive(Args, Debug)]
@@ -120,6 +152,17 @@ struct BenchArgs {
     /// Repetitions per measurement (the median is reported).
     #[arg(long, default_value_t = 7)]
     repetitions: usize,
+}
+
+fn parse_accuracy(text: &str) -> Result<Accuracy, String> {
+    Accuracy::parse(text)
+}
+
+/// The overrides of an accuracy level, before the user's own (which win).
+fn with_accuracy(level: Option<Accuracy>, set: &[String]) -> Vec<String> {
+    let mut all = level.map(|a| a.overrides()).unwrap_or_default();
+    all.extend_from_slice(set);
+    all
 }
 
 /// The scene options shared by the subcommands that read a scene.
@@ -204,6 +247,7 @@ fn main() -> ExitCode {
         }
         None => overview(),
         Some(Command::Tui(args)) => tui(args),
+        Some(Command::Converge(args)) => converge(args),
         Some(Command::Run(args)) => run(args),
         Some(Command::Sweep(args)) => sweep_cmd(args),
         Some(Command::Merge(args)) => merge_cmd(args),
@@ -222,6 +266,177 @@ fn main() -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+/// `wovenform converge`: the mesh and step ladders, their errors and cost, the table, the CSV
+/// and the error-against-time chart.
+fn converge(args: ConvergeArgs) -> Result<(), Failure> {
+    use wovenform::converge::{self as study, FIGURES};
+    let scene = SceneArgs {
+        scene: Some(args.scene.clone()),
+        set: args.set.clone(),
+    }
+    .load()?;
+    let h = scene.mesh.element_size;
+    let sizes = if args.sizes.is_empty() {
+        [2.0, 2f64.sqrt(), 1.0, 0.5f64.sqrt(), 0.5]
+            .iter()
+            .map(|k| (h * k * 1000.0).round() / 1000.0)
+            .collect()
+    } else {
+        args.sizes.clone()
+    };
+    let counts = if args.steps.is_empty() {
+        vec![4, 8, 16, 32, 64]
+    } else {
+        args.steps.clone()
+    };
+    if sizes.len() < 2 || sizes.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return Err(Failure::BadInput(format!(
+            "--sizes {sizes:?}: expected two or more element sizes > 0 mm, coarse to fine"
+        )));
+    }
+    if counts.len() < 2 || counts.contains(&0) {
+        return Err(Failure::BadInput(format!(
+            "--steps {counts:?}: expected two or more step counts ≥ 1, few to many"
+        )));
+    }
+    std::fs::create_dir_all(&args.out).map_err(|e| {
+        Failure::BadInput(format!(
+            "{}: cannot write the output folder: {e}",
+            args.out.display()
+        ))
+    })?;
+    let total = (sizes.len() + counts.len()) as u64;
+    let bar = if std::io::stderr().is_terminal() {
+        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} solves, {msg}",
+        ) {
+            bar.set_style(style);
+        }
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let mut tick = |r: &study::Rung| {
+        bar.inc(1);
+        bar.set_message(format!(
+            "last: {} mm, {} steps, {:.1} s",
+            r.element_size_mm, r.steps, r.wall_s
+        ));
+    };
+    let mesh = study::mesh_ladder(&scene, &sizes, &mut tick);
+    let steps = study::step_ladder(&scene, &counts, &mut tick);
+    bar.finish_and_clear();
+
+    let mut csv = String::from(
+        "ladder,element_size_mm,max_step,dofs,steps,newton_iterations,wall_s,converged,max_shear_deg,punch_force_n,draw_in_mm,max_tension_n,err_max_shear_deg,err_punch_force_pct,err_draw_in_mm,err_max_tension_pct\n",
+    );
+    println!(
+        "{:<6} {:>7} {:>6} {:>6} {:>5} {:>6} {:>8}  {:>9} {:>8} {:>8} {:>8}   errors: {:>7} {:>7} {:>7} {:>7}",
+        "ladder",
+        "h mm",
+        "Δλ",
+        "dofs",
+        "steps",
+        "Newton",
+        "wall s",
+        "shear °",
+        "force N",
+        "draw mm",
+        "T N",
+        "shear °",
+        "force %",
+        "draw mm",
+        "T %"
+    );
+    for ladder in [&mesh, &steps] {
+        for (i, r) in ladder.rungs.iter().enumerate() {
+            let e: Vec<f64> = (0..FIGURES.len()).map(|k| ladder.error(i, k)).collect();
+            let f = r.figures;
+            csv.push_str(&format!(
+                "{},{},{},{},{},{},{:.3},{},{:.4},{:.2},{:.4},{:.2},{:.4},{:.3},{:.4},{:.3}\n",
+                r.ladder,
+                r.element_size_mm,
+                r.max_step,
+                r.dofs,
+                r.steps,
+                r.newton_iterations,
+                r.wall_s,
+                r.converged,
+                f[0],
+                f[1],
+                f[2],
+                f[3],
+                e[0],
+                e[1],
+                e[2],
+                e[3]
+            ));
+            println!(
+                "{:<6} {:>7} {:>6.4} {:>6} {:>5} {:>6} {:>8.2}  {:>9.3} {:>8.1} {:>8.3} {:>8.1}           {:>7.3} {:>7.2} {:>7.3} {:>7.2}{}",
+                r.ladder,
+                r.element_size_mm,
+                r.max_step,
+                r.dofs,
+                r.steps,
+                r.newton_iterations,
+                r.wall_s,
+                f[0],
+                f[1],
+                f[2],
+                f[3],
+                e[0],
+                e[1],
+                e[2],
+                e[3],
+                if r.converged {
+                    ""
+                } else {
+                    "  (did not converge)"
+                }
+            );
+        }
+        let refs: Vec<String> = FIGURES
+            .iter()
+            .zip(&ladder.reference)
+            .map(|(name, r)| match r.order {
+                Some(p) => format!("{name} {:.4} (Richardson, order {p:.2})", r.value),
+                None => format!("{name} {:.4} (the finest rung)", r.value),
+            })
+            .collect();
+        println!(
+            "reference of the {} ladder: {}",
+            ladder.rungs[0].ladder,
+            refs.join("; ")
+        );
+    }
+    // The accuracy levels, where the mesh ladder has their element sizes.
+    for level in wovenform::accuracy::Accuracy::ALL {
+        if let Some(i) = mesh
+            .rungs
+            .iter()
+            .position(|r| (r.element_size_mm - level.element_size_mm()).abs() < 1e-9)
+        {
+            println!(
+                "{level} ({} mm): max shear error {:.2}°, punch force error {:.2} %, {:.2} s on one core",
+                level.element_size_mm(),
+                mesh.error(i, 0),
+                mesh.error(i, 1),
+                mesh.rungs[i].wall_s
+            );
+        }
+    }
+    let csv_path = args.out.join("converge.csv");
+    std::fs::write(&csv_path, csv)
+        .map_err(|e| Failure::Run(format!("{}: {e}", csv_path.display())))?;
+    let png = args.out.join("converge.png");
+    wovenform::report::converge::chart(&mesh, &steps)
+        .write_png(&png)
+        .map_err(Failure::Run)?;
+    println!("wrote {} and {}", csv_path.display(), png.display());
+    Ok(())
 }
 
 /// `wovenform tui [SWEEP.toml]` (and `wovenform` alone in a terminal): the explorer.
@@ -275,7 +490,7 @@ fn overview() -> Result<(), Failure> {
 fn run(args: RunArgs) -> Result<(), Failure> {
     let scene = SceneArgs {
         scene: Some(args.scene.clone()),
-        set: args.set.clone(),
+        set: with_accuracy(args.accuracy, &args.set),
     }
     .load()?;
     let name = args
@@ -344,7 +559,7 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Failure> {
         .map(|s| s.parse::<Shard>())
         .transpose()
         .map_err(Failure::BadInput)?;
-    let plan = Plan::load(&args.sweep, &args.set)?;
+    let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
     let options = sweep::Options {
         jobs: args.jobs,
         shard,
@@ -591,27 +806,103 @@ fn write_fit_png(
 
 /// `wovenform bench`: law and element throughput, one thread.
 fn bench(args: BenchArgs) -> Result<(), Failure> {
+    use wovenform::bench as b;
     let reps = args.repetitions.max(1);
-    let rates = [
-        wovenform::bench::law_rate(reps),
-        wovenform::bench::element_rate(reps),
-    ];
+    let note = |what: &str| {
+        if !args.json {
+            eprintln!("measuring {what} …");
+        }
+    };
+    note("the law and the element");
+    let rates = [b::law_rate(reps), b::element_rate(reps)];
+    note("the paper's open box at standard accuracy");
+    let run = b::paper_box_run(2.5, reps.min(5));
+    note("wall time against dofs (5, 3.5, 2.5, 1.75 mm)");
+    let (ladder, exponent) = b::dof_scaling(&[5.0, 3.5, 2.5, 1.75]);
+    note("sweep throughput with 1 and 2 jobs");
+    let one = b::sweep_throughput(1).map_err(Failure::Run)?;
+    let two = b::sweep_throughput(2).map_err(Failure::Run)?;
     if args.json {
         let obj = serde_json::json!({
             "law_evals_per_s": rates[0].per_second,
             "element_evals_per_s": rates[1].per_second,
+            "open_box_standard_wall_s": run.wall_s,
+            "open_box_dofs": run.dofs,
+            "open_box_steps": run.steps,
+            "open_box_newton_iterations": run.newton_iterations,
+            "newton_iteration_s": {
+                "assembly": run.assembly_s,
+                "contact": run.contact_s,
+                "factor_solve": run.factor_solve_s,
+                "other": run.other_s,
+            },
+            "iteration_over_factor_solve": run.iteration_over_factor_solve(),
+            "dof_ladder": ladder.iter().map(|(d, w)| serde_json::json!({"dofs": d, "wall_s": w})).collect::<Vec<_>>(),
+            "wall_dof_exponent": exponent,
+            "sweep_designs_per_min": {"jobs_1": one, "jobs_2": two},
             "repetitions": reps,
         });
         println!("{obj}");
-    } else {
-        for r in &rates {
-            let lo = r.samples.iter().cloned().fold(f64::INFINITY, f64::min);
-            let hi = r.samples.iter().cloned().fold(0.0, f64::max);
-            println!(
-                "{:<48} {:>12.3e} /s  (median of {reps}; range {lo:.2e} to {hi:.2e})",
-                r.name, r.per_second
-            );
-        }
+        return Ok(());
     }
+    println!(
+        "one thread unless stated; medians of {reps} repetitions (the box: of {})",
+        reps.min(5)
+    );
+    for r in &rates {
+        let lo = r.samples.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = r.samples.iter().cloned().fold(0.0, f64::max);
+        println!(
+            "{:<48} {:>12.3e} /s  (range {lo:.2e} to {hi:.2e})",
+            r.name, r.per_second
+        );
+    }
+    let ms = |s: f64| s * 1e3;
+    let it = run.assembly_s + run.contact_s + run.factor_solve_s + run.other_s;
+    println!(
+        "{:<48} {:>12.3} s   ({} dofs, {} steps, {} Newton iterations; range {:.2} to {:.2} s)",
+        "paper open box, standard (2.5 mm), whole run",
+        run.wall_s,
+        run.dofs,
+        run.steps,
+        run.newton_iterations,
+        run.samples.iter().cloned().fold(f64::INFINITY, f64::min),
+        run.samples.iter().cloned().fold(0.0, f64::max)
+    );
+    println!(
+        "{:<48} {:>12.3} ms: assembly {:.3} ({:.0} %), contact {:.3} ({:.0} %), factorization + solve {:.3} ({:.0} %), other {:.3} ({:.0} %)",
+        "one Newton iteration",
+        ms(it),
+        ms(run.assembly_s),
+        100.0 * run.assembly_s / it,
+        ms(run.contact_s),
+        100.0 * run.contact_s / it,
+        ms(run.factor_solve_s),
+        100.0 * run.factor_solve_s / it,
+        ms(run.other_s),
+        100.0 * run.other_s / it
+    );
+    println!(
+        "{:<48} {:>12.2}",
+        "Newton iteration / factorization + solve",
+        run.iteration_over_factor_solve()
+    );
+    let pts: Vec<String> = ladder
+        .iter()
+        .map(|(d, w)| format!("{d} dofs {w:.2} s"))
+        .collect();
+    println!(
+        "{:<48} {:>12.2}   ({})",
+        "wall time ∝ dofs^k, k =",
+        exponent,
+        pts.join(", ")
+    );
+    println!(
+        "{:<48} {:>12.1} /min with 1 job, {:.1} /min with 2 jobs (speed-up {:.2})",
+        "sweep throughput (8 box designs, coarse)",
+        one,
+        two,
+        two / one
+    );
     Ok(())
 }

@@ -1706,6 +1706,7 @@ fn finalize(
 
 fn results_json(plan: &Plan, rows: &[Row], shard: Option<Shard>, top: f64) -> String {
     let c = counts(rows);
+    let level = crate::accuracy::Accuracy::of_element_size(plan.base_scene.mesh.element_size);
     let obj = serde_json::json!({
         "program": "wovenform",
         "version": env!("CARGO_PKG_VERSION"),
@@ -1729,6 +1730,9 @@ fn results_json(plan: &Plan, rows: &[Row], shard: Option<Shard>, top: f64) -> St
         },
         "locking_angle_deg": plan.base_scene.fabric.locking_angle_deg,
         "break_tension_n": plan.base_scene.fabric.break_tension_n,
+        "accuracy": level.map(|a| a.name()),
+        "max_shear_err_deg": level.map(|a| a.error().max_shear_deg),
+        "punch_force_err_pct": level.map(|a| a.error().punch_force_pct),
         "shear_scale_max_deg": top,
         "rows": rows,
     });

@@ -331,3 +331,39 @@ fn exit_code_follows_convergence() {
         assert!(dir.path().join("x/shear.png").is_file());
     }
 }
+
+#[test]
+fn an_accuracy_level_sets_the_mesh_and_reports_its_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = common::wovenform_in(
+        dir.path(),
+        &[
+            "run",
+            &common::preset("paper-box-open.toml"),
+            "--accuracy",
+            "coarse",
+            "--set",
+            "process.stroke=6.0",
+            "--json",
+            "--out",
+            "o",
+        ],
+    );
+    assert!(out.status.success(), "{}", common::text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["accuracy"], "coarse");
+    assert_eq!(v["max_shear_err_deg"], 4.0);
+    assert_eq!(v["inputs"]["mesh"]["element_size"], 5.0);
+    assert!(v["wall_s"].as_f64().unwrap() > 0.0);
+    let bad = common::wovenform_in(
+        dir.path(),
+        &[
+            "run",
+            &common::preset("paper-box-open.toml"),
+            "--accuracy",
+            "medium",
+        ],
+    );
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(common::text(&bad.stderr).contains("coarse, standard or fine"));
+}

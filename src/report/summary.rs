@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::maps::{self, MapContext};
 use super::vtu;
+use crate::accuracy::Accuracy;
 use crate::core::drawing::{DrawingResult, Tooling};
 use crate::scene::{Scene, ToolKind};
 
@@ -44,6 +45,11 @@ pub struct RunSummary {
     /// Largest draw-in of the blank's edge, mm.
     pub draw_in_mm: f64,
     pub wall_s: f64,
+    /// The accuracy level of the scene's mesh (`coarse`, `standard`, `fine`), when it is one,
+    /// and that level's measured errors (see `crate::accuracy`).
+    pub accuracy: Option<String>,
+    pub max_shear_err_deg: Option<f64>,
+    pub punch_force_err_pct: Option<f64>,
     pub dofs: usize,
     /// Elements of the solved part, and which part was solved ("quarter" or "full").
     pub elements: usize,
@@ -90,6 +96,7 @@ impl RunSummary {
                 }
             }
         };
+        let level = Accuracy::of_element_size(scene.mesh.element_size);
         let max_shear_at = if result.shear_deg.is_empty() {
             [0.0; 3]
         } else {
@@ -113,6 +120,9 @@ impl RunSummary {
             penetration_mm: result.penetration_mm,
             draw_in_mm: result.draw_in_mm,
             wall_s: result.wall_s,
+            accuracy: level.map(|a| a.name().to_string()),
+            max_shear_err_deg: level.map(|a| a.error().max_shear_deg),
+            punch_force_err_pct: level.map(|a| a.error().punch_force_pct),
             dofs: result.dofs,
             elements: result.mesh.quads.len(),
             solved_part: if result.quarter { "quarter" } else { "full" }.to_string(),
@@ -217,6 +227,22 @@ impl RunSummary {
                 ""
             }
         );
+        let _ = match (
+            &self.accuracy,
+            self.max_shear_err_deg,
+            self.punch_force_err_pct,
+        ) {
+            (Some(level), Some(shear), Some(force)) => writeln!(
+                out,
+                "accuracy     {level} ({} mm elements): max shear ±{shear}°, punch force ±{force} % (measured on the paper's box)",
+                self.inputs.mesh.element_size
+            ),
+            _ => writeln!(
+                out,
+                "accuracy     no level ({} mm elements): --accuracy coarse|standard|fine gives an error estimate",
+                self.inputs.mesh.element_size
+            ),
+        };
         if !self.left_out.is_empty() {
             let _ = writeln!(out, "left out     {}", self.left_out.join("; "));
         }
