@@ -308,17 +308,10 @@ fn converge(args: ConvergeArgs) -> Result<(), Failure> {
         ))
     })?;
     let total = (sizes.len() + counts.len()) as u64;
-    let bar = if std::io::stderr().is_terminal() {
-        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-        if let Ok(style) = ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} solves, {msg}",
-        ) {
-            bar.set_style(style);
-        }
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = stderr_bar(
+        total,
+        "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} solves, {msg}",
+    );
     let mut tick = |r: &study::Rung| {
         bar.inc(1);
         bar.set_message(format!(
@@ -527,15 +520,24 @@ fn run(args: RunArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// A progress bar of the punch stroke on stderr, drawn only when stderr is a terminal.
-fn stroke_bar(stroke_mm: f64) -> ProgressBar {
+/// A progress bar of `len` on stderr in the indicatif `template`; hidden when stderr is not a
+/// terminal.
+fn stderr_bar(len: u64, template: &str) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
-    let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {msg}")
-    {
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(template) {
         bar.set_style(style);
+    }
+    bar
+}
+
+/// A progress bar of the punch stroke on stderr, drawn only when stderr is a terminal.
+fn stroke_bar(stroke_mm: f64) -> ProgressBar {
+    let bar = stderr_bar(1000, "{spinner} [{elapsed_precise}] {bar:40} {msg}");
+    if bar.is_hidden() {
+        return bar;
     }
     bar.set_message(format!("stroke 0.00 of {stroke_mm} mm"));
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
@@ -567,18 +569,11 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Failure> {
         ..sweep::Options::default()
     };
     let terminal = std::io::stderr().is_terminal();
-    let bar = if terminal {
-        let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr());
-        if let Ok(style) = ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} designs, {msg}, ETA {eta}",
-        ) {
-            bar.set_style(style);
-        }
-        bar.set_message("0 feasible");
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = stderr_bar(
+        0,
+        "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} designs, {msg}, ETA {eta}",
+    );
+    bar.set_message("0 feasible");
     let progress = |p: Progress| match p {
         Progress::Start {
             to_run,
