@@ -18,7 +18,9 @@ use wovenform::core::contact::{Contact, ContactOptions, Holder, ToolMotion};
 use wovenform::core::drawing::{self, DrawingProblem, Symmetry, node_shares};
 use wovenform::core::law::{CellLaw, CellParams};
 use wovenform::core::mesh::Mesh;
-use wovenform::core::solver::{LinearPrescribed, Model, NodalTerms, Solver, SolverOptions};
+use wovenform::core::solver::{
+    LinearPrescribed, Model, NodalSums, NodalTerms, Solver, SolverOptions,
+};
 use wovenform::core::tools::Tool;
 
 /// Contact plus dead loads on some nodes (force per node, N), ramped in over the first quarter
@@ -42,23 +44,18 @@ impl NodalTerms for WithDeadLoad {
         x: &[[f64; 3]],
         r: &mut [f64],
         blocks: Option<&mut [[f64; 6]]>,
-    ) -> Option<f64> {
-        let scale = self.contact.add(lambda, x, r, blocks)?;
-        let mut largest = scale;
+    ) -> Option<NodalSums> {
+        let mut sums = self.contact.add(lambda, x, r, blocks)?;
         for (n, f) in &self.loads {
             for m in 0..3 {
                 r[3 * n + m] -= ramp(lambda) * f[m];
             }
-            largest = largest.max((f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt());
+            sums.scale = sums
+                .scale
+                .max((f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt());
+            sums.energy -= ramp(lambda) * (f[0] * x[*n][0] + f[1] * x[*n][1] + f[2] * x[*n][2]);
         }
-        Some(largest)
-    }
-    fn energy(&self, lambda: f64, x: &[[f64; 3]]) -> f64 {
-        let mut e = self.contact.energy(lambda, x);
-        for (n, f) in &self.loads {
-            e -= ramp(lambda) * (f[0] * x[*n][0] + f[1] * x[*n][1] + f[2] * x[*n][2]);
-        }
-        e
+        Some(sums)
     }
     fn end_step(&mut self, lambda: f64, x: &[[f64; 3]]) {
         self.contact.end_step(lambda, x);

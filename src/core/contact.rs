@@ -17,6 +17,7 @@
 //! holder force) and the holder face with `μ p A w`, so a sliding flange carries `2 μ p` per
 //! unit area.
 
+use super::solver::{NodalSums, NodalTerms};
 use super::tools::Tool;
 
 /// One tool's role in the drawing.
@@ -118,6 +119,9 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// positive semi-definite it is kept exactly (and Newton converges quadratically); elsewhere its
 /// negative part is dropped, so the tangent stays factorizable by Cholesky.
 fn positive_part(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    if is_positive_semidefinite(&m) {
+        return m;
+    }
     let mat = nalgebra::Matrix3::from_fn(|i, j| m[i][j]);
     let eig = mat.symmetric_eigen();
     if eig.eigenvalues.iter().all(|&l| l >= 0.0) {
@@ -134,6 +138,22 @@ fn positive_part(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
         }
     }
     out
+}
+
+/// Whether a symmetric 3×3 block is positive semi-definite, by its principal minors (all of
+/// them non-negative, up to round-off of the size of the block's trace): the cheap test that
+/// spares the eigen-decomposition on flat tool faces, where the block is `k n nᵀ`.
+fn is_positive_semidefinite(m: &[[f64; 3]; 3]) -> bool {
+    let scale = (m[0][0].abs() + m[1][1].abs() + m[2][2].abs()).max(f64::MIN_POSITIVE);
+    let tol = 1e-14 * scale;
+    let minor2 = |a: usize, b: usize| m[a][a] * m[b][b] - m[a][b] * m[b][a];
+    let det = m[0][0] * minor2(1, 2) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    (0..3).all(|a| m[a][a] >= -tol)
+        && [(0, 1), (0, 2), (1, 2)]
+            .iter()
+            .all(|&(a, b)| minor2(a, b) >= -tol * scale)
+        && det >= -tol * scale * scale
 }
 
 /// Index of `(i, j)`, `i ≤ j`, in a node block `[xx xy xz yy yz zz]`.
@@ -257,7 +277,8 @@ impl Contact {
         [rel[0] - rn * n[0], rel[1] - rn * n[1], rel[2] - rn * n[2]]
     }
 
-    /// Adds node `i`'s terms with tool `t`: normal penalty and lagged friction.
+    /// Adds node `i`'s terms with tool `t`: normal penalty and lagged friction. Returns the
+    /// largest single force added (N) and the potential of the terms (N·mm).
     fn add_node_tool(
         &self,
         i: usize,
@@ -266,8 +287,9 @@ impl Contact {
         p: [f64; 3],
         r: &mut [f64],
         block: Option<&mut [f64; 6]>,
-    ) -> f64 {
+    ) -> (f64, f64) {
         let mut largest = 0.0f64;
+        let mut energy = 0.0;
         let motion = &self.tools[t];
         let tool = motion.at(lambda);
         let k = self.penalty[i];
@@ -279,6 +301,7 @@ impl Contact {
         if dist.d <= 0.0 {
             let g = dist.d;
             largest = largest.max(-k * g);
+            energy += 0.5 * k * g * g;
             for m in 0..3 {
                 r[3 * i + m] += k * g * dist.n[m];
             }
@@ -307,6 +330,7 @@ impl Contact {
             let rho = (dot(s, s) + eps * eps).sqrt();
             let c = mu * normal_force;
             largest = largest.max(c * dot(s, s).sqrt() / rho);
+            energy += c * (rho - eps);
             for m in 0..3 {
                 r[3 * i + m] += c * s[m] / rho;
             }
@@ -326,18 +350,19 @@ impl Contact {
                 }
             }
         }
-        largest
+        (largest, energy)
     }
 }
 
-impl super::solver::NodalTerms for Contact {
-    fn begin_step(&mut self, _lambda: f64, x: &[[f64; 3]]) {
+impl NodalTerms for Contact {
+    fn begin_step(&mut self, lambda: f64, x: &[[f64; 3]]) {
         let n = x.len();
         let lambda0 = self.lambda_step_start;
         self.x_step_start.copy_from_slice(x);
         for t in 0..self.tools.len() {
             let tool = self.tools[t].at(lambda0);
-            let stroke = self.tools[t].stroke.abs();
+            // The tool's travel over this step.
+            let stroke = (self.tools[t].tip(lambda) - self.tools[t].tip(lambda0)).abs();
             let mut active = Vec::new();
             for i in 0..n {
                 let dist = tool.distance(x[i]);
@@ -371,14 +396,16 @@ impl super::solver::NodalTerms for Contact {
         x: &[[f64; 3]],
         r: &mut [f64],
         mut blocks: Option<&mut [[f64; 6]]>,
-    ) -> Option<f64> {
+    ) -> Option<NodalSums> {
         let mut largest = vec![0.0f64; x.len()];
+        let mut energy = 0.0;
         for t in 0..self.tools.len() {
             for &i in &self.active[t] {
                 let i = i as usize;
                 let blk = blocks.as_deref_mut().map(|b| &mut b[i]);
-                let f = self.add_node_tool(i, t, lambda, x[i], r, blk);
+                let (f, e) = self.add_node_tool(i, t, lambda, x[i], r, blk);
                 largest[i] = largest[i].max(f);
+                energy += e;
             }
         }
         if let Some(h) = &self.holder {
@@ -386,38 +413,11 @@ impl super::solver::NodalTerms for Contact {
                 let f = h.pressure * self.area[i] * self.holder_weight[i];
                 r[3 * i + 2] += f;
                 largest[i] = largest[i].max(f);
+                energy += f * x[i][2];
             }
         }
         let scale = largest.iter().map(|f| f * f).sum::<f64>().sqrt();
-        scale.is_finite().then_some(scale)
-    }
-
-    fn energy(&self, lambda: f64, x: &[[f64; 3]]) -> f64 {
-        let n = x.len();
-        let mut e = 0.0;
-        for t in 0..self.tools.len() {
-            let tool = self.tools[t].at(lambda);
-            for &i in &self.active[t] {
-                let i = i as usize;
-                let d = tool.distance(x[i]).d;
-                if d < 0.0 {
-                    e += 0.5 * self.penalty[i] * d * d;
-                }
-                let (normal_force, nn) = self.friction_normal(t, i);
-                let mu = self.options.friction;
-                if mu > 0.0 && normal_force > 0.0 {
-                    let sl = self.slip(t, i, lambda, x[i], nn);
-                    let eps = self.options.slip_regularisation;
-                    e += mu * normal_force * ((dot(sl, sl) + eps * eps).sqrt() - eps);
-                }
-            }
-        }
-        if let Some(h) = &self.holder {
-            for i in 0..n {
-                e += h.pressure * self.area[i] * self.holder_weight[i] * x[i][2];
-            }
-        }
-        e
+        scale.is_finite().then_some(NodalSums { scale, energy })
     }
 
     fn end_step(&mut self, lambda: f64, x: &[[f64; 3]]) {

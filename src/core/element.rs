@@ -258,6 +258,10 @@ impl Default for ElementOutput {
 
 /// Internal force, tangent (if `tangent`) and energy at the current nodal positions `x`;
 /// `crimp` (one state per Gauss point) is the warm start and receives the solved state.
+///
+/// The material stiffness is summed over the Gauss points as one product: with the eight
+/// vectors `Bα` of the four points as the columns of `B` (12×8) and `W` holding each point's
+/// `Dαβ`, `K = B W Bᵀ`, each entry a dot product of length 8 written once.
 pub fn evaluate(
     geo: &ElementGeometry,
     law: &CellLaw,
@@ -267,12 +271,14 @@ pub fn evaluate(
     out: &mut ElementOutput,
 ) {
     out.f = [0.0; 12];
-    if tangent {
-        out.k = [[0.0; 12]; 12];
-    }
     out.energy = 0.0;
     out.law_iterations = 0;
     let l0 = law.p.l0;
+    // Row i: the components i of the eight vectors Bα (columns 2·gp + α), and of W Bᵀ.
+    let mut bt = [[0.0; 2 * GAUSS]; 12];
+    let mut wbt = [[0.0; 2 * GAUSS]; 12];
+    // Geometric stiffness per node pair: Σ S̃α dαN^k dαN^q.
+    let mut geometric = [[0.0; 4]; 4];
     for gp in 0..GAUSS {
         let d = &geo.d[gp];
         let n = geo.cells[gp];
@@ -327,34 +333,31 @@ pub fn evaluate(
         dm[0][1] = d12;
         dm[1][0] = d12;
         for i in 0..12 {
-            let bi = [b[0][i], b[1][i]];
-            if bi[0] == 0.0 && bi[1] == 0.0 {
-                continue;
-            }
-            let c0 = dm[0][0] * bi[0] + dm[1][0] * bi[1];
-            let c1 = dm[0][1] * bi[0] + dm[1][1] * bi[1];
-            for j in i..12 {
-                out.k[i][j] += c0 * b[0][j] + c1 * b[1][j];
-            }
+            bt[i][2 * gp] = b[0][i];
+            bt[i][2 * gp + 1] = b[1][i];
+            wbt[i][2 * gp] = dm[0][0] * b[0][i] + dm[0][1] * b[1][i];
+            wbt[i][2 * gp + 1] = dm[1][0] * b[0][i] + dm[1][1] * b[1][i];
         }
-        // Geometric stiffness: S̃α dαN^k dαN^q on matching components.
         for k in 0..4 {
             for q in k..4 {
-                let g = s[0] * d[0][k] * d[0][q] + s[1] * d[1][k] * d[1][q];
-                if g == 0.0 {
-                    continue;
-                }
-                for m in 0..3 {
-                    out.k[3 * k + m][3 * q + m] += g;
-                }
+                geometric[k][q] += s[0] * d[0][k] * d[0][q] + s[1] * d[1][k] * d[1][q];
             }
         }
     }
-    if tangent {
-        for i in 0..12 {
-            for j in 0..i {
-                out.k[i][j] = out.k[j][i];
+    if !tangent {
+        return;
+    }
+    for i in 0..12 {
+        for j in i..12 {
+            let mut v = 0.0;
+            for c in 0..2 * GAUSS {
+                v += wbt[i][c] * bt[j][c];
             }
+            if i % 3 == j % 3 {
+                v += geometric[i / 3][j / 3];
+            }
+            out.k[i][j] = v;
+            out.k[j][i] = v;
         }
     }
 }

@@ -1,6 +1,7 @@
 //! The symmetric sparse linear solve of each Newton iteration: a pattern built once per mesh, the
-//! symbolic Cholesky analysis (fill-reducing ordering, elimination tree) done once on it, and a
-//! numeric `LLᵀ` factorization per iteration into reused storage. When the tangent is not
+//! symbolic Cholesky analysis (fill-reducing ordering applied to the pattern itself, elimination
+//! tree, supernodes) done once on it, and a numeric `LLᵀ` factorization per iteration into reused
+//! storage. When the tangent is not
 //! positive definite, the factorization is retried on `K + δ·diag(K)` with growing `δ`.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -45,37 +46,8 @@ impl UpperPattern {
         }
     }
 
-    /// The position of `(row, col)` (row ≤ col) in the value array.
-    pub fn slot(&self, row: usize, col: usize) -> Option<usize> {
-        let (r, c) = if row <= col { (row, col) } else { (col, row) };
-        let range = self.col_ptr[c]..self.col_ptr[c + 1];
-        self.row_idx[range.clone()]
-            .binary_search(&r)
-            .ok()
-            .map(|p| range.start + p)
-    }
-
     pub fn nnz(&self) -> usize {
         self.row_idx.len()
-    }
-
-    /// The position of each diagonal entry.
-    pub fn diagonal_slots(&self) -> Vec<usize> {
-        (0..self.n).map(|i| self.col_ptr[i + 1] - 1).collect()
-    }
-
-    /// `y = A x` for the symmetric matrix stored by its upper triangle in `values`.
-    pub fn mul(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
-        y.iter_mut().for_each(|v| *v = 0.0);
-        for c in 0..self.n {
-            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                let r = self.row_idx[p];
-                y[r] += values[p] * x[c];
-                if r != c {
-                    y[c] += values[p] * x[r];
-                }
-            }
-        }
     }
 }
 
@@ -91,41 +63,93 @@ pub struct SolveInfo {
 pub struct NotFactorizable;
 
 /// A sparse Cholesky solver bound to one pattern.
+///
+/// The fill-reducing ordering (AMD) is applied once, to the pattern: the matrix is stored as the
+/// lower triangle of `P K Pᵀ` in compressed columns, and [`SparseCholesky::slot`] tells the
+/// assembly where each entry goes. faer then factorizes the stored matrix as it is, instead of
+/// permuting a copy of it at every factorization.
 pub struct SparseCholesky {
+    /// The pattern in the caller's numbering.
     pattern: UpperPattern,
+    /// `new[i]`: the position of the caller's equation `i` in the factorized matrix.
+    new: Vec<usize>,
+    /// The lower triangle of `P K Pᵀ`, compressed columns (rows sorted).
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
     shifted: Vec<f64>,
     diag: Vec<usize>,
+    permuted_rhs: Vec<f64>,
     mem: MemBuffer,
 }
 
 impl SparseCholesky {
-    /// Symbolic analysis of `pattern` (done once per mesh).
+    /// Symbolic analysis of `pattern` (done once per mesh): the AMD ordering, the permuted
+    /// pattern and its elimination tree and supernodes.
     pub fn new(pattern: UpperPattern) -> Self {
-        let sym = SymbolicSparseColMatRef::new_checked(
-            pattern.n,
-            pattern.n,
-            &pattern.col_ptr,
-            None,
-            &pattern.row_idx,
-        );
-        let symbolic = factorize_symbolic_cholesky(
+        let n = pattern.n;
+        let sym =
+            SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
+        let ordering = factorize_symbolic_cholesky(
             sym,
             Side::Upper,
             SymmetricOrdering::Amd,
             CholeskySymbolicParams::default(),
         )
         .expect("symbolic Cholesky analysis of a valid pattern");
+        let new: Vec<usize> = match ordering.perm() {
+            Some(perm) => perm.arrays().1.to_vec(),
+            None => (0..n).collect(),
+        };
+        // The lower triangle of the permuted matrix: entry (r, c) of the caller's upper triangle
+        // lands at (max, min) of (new[r], new[c]).
+        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for c in 0..n {
+            for &r in &pattern.row_idx[pattern.col_ptr[c]..pattern.col_ptr[c + 1]] {
+                let (a, b) = (new[r], new[c]);
+                cols[a.min(b)].push(a.max(b));
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(pattern.nnz());
+        col_ptr.push(0);
+        for mut col in cols {
+            col.sort_unstable();
+            row_idx.extend_from_slice(&col);
+            col_ptr.push(row_idx.len());
+        }
+        // faer's analysis without ordering reads the upper triangle; its supernodal numeric
+        // factorization reads the lower one without copying it.
+        let upper = UpperPattern::from_couplings(
+            n,
+            (0..n).flat_map(|c| {
+                row_idx[col_ptr[c]..col_ptr[c + 1]]
+                    .iter()
+                    .map(move |&r| (r, c))
+            }),
+        );
+        let symbolic = factorize_symbolic_cholesky(
+            SymbolicSparseColMatRef::new_checked(n, n, &upper.col_ptr, None, &upper.row_idx),
+            Side::Upper,
+            SymmetricOrdering::Identity,
+            CholeskySymbolicParams::default(),
+        )
+        .expect("symbolic Cholesky analysis of the permuted pattern");
         let par = Par::Seq;
         let req = symbolic
             .factorize_numeric_llt_scratch::<f64>(par, Default::default())
             .or(symbolic.solve_in_place_scratch::<f64>(1, par));
         let l_values = vec![0.0; symbolic.len_val()];
-        let diag = pattern.diagonal_slots();
+        // The diagonal leads each column of a lower triangle.
+        let diag = col_ptr[..n].to_vec();
         SparseCholesky {
-            shifted: vec![0.0; pattern.nnz()],
+            shifted: vec![0.0; row_idx.len()],
+            permuted_rhs: vec![0.0; n],
             pattern,
+            new,
+            col_ptr,
+            row_idx,
             symbolic,
             l_values,
             diag,
@@ -133,8 +157,56 @@ impl SparseCholesky {
         }
     }
 
+    /// The pattern in the caller's numbering.
     pub fn pattern(&self) -> &UpperPattern {
         &self.pattern
+    }
+
+    /// Stored entries: the length of the value array the assembly fills.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Where the entry `(row, col)` (the caller's equations, either order) is stored, if it is
+    /// in the pattern.
+    pub fn slot(&self, row: usize, col: usize) -> Option<usize> {
+        let (a, b) = (self.new[row], self.new[col]);
+        let (r, c) = (a.max(b), a.min(b));
+        let range = self.col_ptr[c]..self.col_ptr[c + 1];
+        self.row_idx[range.clone()]
+            .binary_search(&r)
+            .ok()
+            .map(|p| range.start + p)
+    }
+
+    /// `y = K x` in the caller's numbering, for `K` stored in `values`.
+    pub fn mul(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+        let n = self.pattern.n;
+        let mut xp = vec![0.0; n];
+        for (i, &v) in x.iter().enumerate() {
+            xp[self.new[i]] = v;
+        }
+        let mut yp = vec![0.0; n];
+        for c in 0..n {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let r = self.row_idx[p];
+                yp[r] += values[p] * xp[c];
+                if r != c {
+                    yp[c] += values[p] * xp[r];
+                }
+            }
+        }
+        for (i, v) in y.iter_mut().enumerate() {
+            *v = yp[self.new[i]];
+        }
+    }
+
+    /// The largest absolute diagonal entry of `values`.
+    pub fn diagonal_max(&self, values: &[f64]) -> f64 {
+        self.diag
+            .iter()
+            .map(|&s| values[s].abs())
+            .fold(0.0f64, f64::max)
     }
 
     /// Non-zeros of the Cholesky factor.
@@ -143,15 +215,15 @@ impl SparseCholesky {
     }
 
     fn factorize(&mut self, values: &[f64]) -> bool {
-        let p = &self.pattern;
-        let sym = SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx);
+        let n = self.pattern.n;
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
         let a = SparseColMatRef::new(sym, values);
         let stack = MemStack::new(&mut self.mem);
         self.symbolic
             .factorize_numeric_llt(
                 &mut self.l_values,
                 a,
-                Side::Upper,
+                Side::Lower,
                 LltRegularization::default(),
                 Par::Seq,
                 stack,
@@ -169,12 +241,7 @@ impl SparseCholesky {
     ) -> Result<SolveInfo, NotFactorizable> {
         let mut shift = 0.0;
         if !self.factorize(values) {
-            let max_diag = self
-                .diag
-                .iter()
-                .map(|&s| values[s].abs())
-                .fold(0.0f64, f64::max)
-                .max(f64::MIN_POSITIVE);
+            let max_diag = self.diagonal_max(values).max(f64::MIN_POSITIVE);
             let mut ok = false;
             for k in 0..6 {
                 shift = 10f64.powi(-10 + 2 * k);
@@ -199,10 +266,16 @@ impl SparseCholesky {
     }
 
     fn solve(&mut self, rhs: &mut [f64]) {
+        for (i, &v) in rhs.iter().enumerate() {
+            self.permuted_rhs[self.new[i]] = v;
+        }
         let llt = LltRef::new(&self.symbolic, &self.l_values);
         let stack = MemStack::new(&mut self.mem);
         let n = rhs.len();
-        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        let x = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, n, 1);
         llt.solve_in_place_with_conj(Conj::No, x, Par::Seq, stack);
+        for (i, v) in rhs.iter_mut().enumerate() {
+            *v = self.permuted_rhs[self.new[i]];
+        }
     }
 }

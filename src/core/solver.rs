@@ -22,9 +22,8 @@ pub trait NodalTerms: Sync {
     /// Called once at the start of each load step attempt, with the converged positions.
     fn begin_step(&mut self, _lambda: f64, _x: &[[f64; 3]]) {}
     /// Adds `∂(terms)/∂x` blocks (upper triangle of each node's 3×3: xx xy xz yy yz zz) when
-    /// `blocks` is given, and the forces to `r`. Returns the magnitude of the forces added (the
-    /// norm over nodes of each node's largest single force, N: forces that cancel each other at
-    /// a node still count), or `None` if the configuration is inadmissible (the line search then
+    /// `blocks` is given, and the forces to `r`. Returns the magnitude of the forces added and
+    /// their potential, or `None` if the configuration is inadmissible (the line search then
     /// shortens the step).
     fn add(
         &self,
@@ -32,14 +31,20 @@ pub trait NodalTerms: Sync {
         x: &[[f64; 3]],
         r: &mut [f64],
         blocks: Option<&mut [[f64; 6]]>,
-    ) -> Option<f64>;
-    /// The potential of the terms at `x` (N·mm), whose gradient is what `add` adds: the line
-    /// search's merit. Terms without a potential return 0 (the residual norm then decides).
-    fn energy(&self, _lambda: f64, _x: &[[f64; 3]]) -> f64 {
-        0.0
-    }
+    ) -> Option<NodalSums>;
     /// Called when a step is accepted.
     fn end_step(&mut self, _lambda: f64, _x: &[[f64; 3]]) {}
+}
+
+/// What [`NodalTerms::add`] returns besides the forces.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NodalSums {
+    /// The norm over nodes of each node's largest single force, N (forces that cancel each
+    /// other at a node still count): the load scale of the convergence test.
+    pub scale: f64,
+    /// The potential of the terms at `x` (N·mm), whose gradient is what `add` adds: the line
+    /// search's merit. Terms without a potential give 0 (the residual norm then decides).
+    pub energy: f64,
 }
 
 /// No nodal terms.
@@ -52,8 +57,8 @@ impl NodalTerms for NoNodalTerms {
         _: &[[f64; 3]],
         _: &mut [f64],
         _: Option<&mut [[f64; 6]]>,
-    ) -> Option<f64> {
-        Some(0.0)
+    ) -> Option<NodalSums> {
+        Some(NodalSums::default())
     }
 }
 
@@ -114,6 +119,9 @@ pub struct SolverOptions {
     pub secant_predictor: bool,
     /// Relax the stabilisation after every step (one pass), not only at the end.
     pub relax_every_step: bool,
+    /// At the end of the run, time factorization + solve alone on the last tangent
+    /// (`SolveStats::bare_factor_solve_s`), for the benchmark.
+    pub time_bare_factorization: bool,
 }
 
 impl Default for SolverOptions {
@@ -132,6 +140,7 @@ impl Default for SolverOptions {
             initial_damping: 0.0,
             secant_predictor: true,
             relax_every_step: false,
+            time_bare_factorization: false,
         }
     }
 }
@@ -199,6 +208,9 @@ pub struct SolveStats {
     pub lambda: f64,
     /// Norm of the stabilisation force over the norm of the internal force, at the end.
     pub stabilisation_force_ratio: f64,
+    /// Median wall time of a factorization + solve of the run's last tangent on its own, s
+    /// (when `SolverOptions::time_bare_factorization`).
+    pub bare_factor_solve_s: Option<f64>,
 }
 
 impl SolveStats {
@@ -284,12 +296,12 @@ impl Model {
                 })
             })
         });
-        let pattern = UpperPattern::from_couplings(n, couplings);
+        let linear = SparseCholesky::new(UpperPattern::from_couplings(n, couplings));
         let slot = |a: usize, b: usize| -> u32 {
             if a == usize::MAX || b == usize::MAX {
                 u32::MAX
             } else {
-                pattern.slot(a, b).expect("pair in pattern") as u32
+                linear.slot(a, b).expect("pair in pattern") as u32
             }
         };
         let element_slots = mesh
@@ -337,7 +349,7 @@ impl Model {
             prescribed_dofs: prescribed_dofs.to_vec(),
             element_slots,
             node_slots,
-            linear: SparseCholesky::new(pattern),
+            linear,
             viscosity,
             outputs: vec![ElementOutput::default(); ne],
             element_size,
@@ -487,7 +499,7 @@ pub struct Solver<'a> {
 
 impl<'a> Solver<'a> {
     pub fn new(model: &'a mut Model, options: SolverOptions) -> Self {
-        let nnz = model.linear.pattern().nnz();
+        let nnz = model.linear.nnz();
         let nn = model.mesh.nodes.len();
         let u0 = model.u.clone();
         Solver {
@@ -575,12 +587,12 @@ impl<'a> Solver<'a> {
             terms.add(lambda, &x, &mut f_terms, None)
         };
         let admissible = added.is_some();
-        let terms_norm = added.unwrap_or(0.0);
+        let sums = added.unwrap_or_default();
         for (a, b) in f_all.iter_mut().zip(&f_terms) {
             *a += b;
         }
         self.stats.nodal_s += t1.elapsed().as_secs_f64();
-        let mut energy = m.stored_energy() + terms.energy(lambda, &x);
+        let mut energy = m.stored_energy() + sums.energy;
         if kappa > 0.0 {
             for (nd, mu) in m.viscosity.iter().enumerate() {
                 for c in 0..3 {
@@ -599,24 +611,28 @@ impl<'a> Solver<'a> {
         Assembled {
             r,
             energy,
-            scale: internal_norm.max(terms_norm).max(stab_norm2.sqrt()),
+            scale: internal_norm.max(sums.scale).max(stab_norm2.sqrt()),
             admissible: admissible && finite,
         }
     }
 
-    /// True when `du` lies in a near-null space of the assembled tangent.
-    fn near_null(&mut self, du: &[f64]) -> bool {
-        let pattern = self.model.linear.pattern();
-        let mut kdu = vec![0.0; du.len()];
-        pattern.mul(&self.values, du, &mut kdu);
-        let num: f64 = du.iter().zip(&kdu).map(|(a, b)| a * b).sum();
+    /// True when `du` lies in a near-null space of the assembled tangent: its Rayleigh quotient
+    /// `du·K·du / du·du` is below `1e-12` of the largest diagonal entry. `du` solved `K du = −r`
+    /// (`slope = r·du`), so `du·K·du = −slope` up to round-off: the product with `K` is formed
+    /// only when that estimate is within a factor 100 of the threshold.
+    fn near_null(&self, du: &[f64], slope: f64) -> bool {
         let den: f64 = du.iter().map(|a| a * a).sum();
-        let diag_max = pattern
-            .diagonal_slots()
-            .iter()
-            .map(|&s| self.values[s].abs())
-            .fold(0.0f64, f64::max);
-        den > 0.0 && num <= 1e-12 * diag_max * den
+        if den == 0.0 {
+            return false;
+        }
+        let threshold = 1e-12 * self.model.linear.diagonal_max(&self.values) * den;
+        if -slope > 100.0 * threshold {
+            return false;
+        }
+        let mut kdu = vec![0.0; du.len()];
+        self.model.linear.mul(&self.values, du, &mut kdu);
+        let num: f64 = du.iter().zip(&kdu).map(|(a, b)| a * b).sum();
+        num <= threshold
     }
 
     /// Sets the prescribed dofs at `lambda`.
@@ -628,11 +644,12 @@ impl<'a> Solver<'a> {
         }
     }
 
-    fn add_free(&mut self, du: &[f64], alpha: f64) {
+    /// Sets the displacements to `base + alpha du` on the free dofs.
+    fn set_free(&mut self, base: &[f64], du: &[f64], alpha: f64) {
         let m = &mut *self.model;
         for (d, &q) in m.eq.iter().enumerate() {
             if q != usize::MAX {
-                m.u[d] += alpha * du[q];
+                m.u[d] = base[d] + alpha * du[q];
             }
         }
     }
@@ -675,8 +692,16 @@ impl<'a> Solver<'a> {
         let mut last_shift = 0.0;
         // Each step starts damped (its first iteration meets the punch's new position).
         self.damping = self.damping.max(self.options.initial_damping);
+        // The assembly (with tangent) of a full step accepted at its first trial, which is the
+        // next iteration's.
+        let mut carried: Option<Assembled> = None;
+        let mut last_full_step = false;
+        let mut u_base = Vec::new();
         for it in 0..=self.options.max_iterations {
-            let a = self.assemble(lambda, terms, true);
+            let a = match carried.take() {
+                Some(a) => a,
+                None => self.assemble(lambda, terms, true),
+            };
             if !a.admissible {
                 return Err("inadmissible or non-finite state".into());
             }
@@ -733,7 +758,8 @@ impl<'a> Solver<'a> {
             // A step along a (near) null direction of the tangent means a mechanism, even when
             // round-off let the factorization through: compare its Rayleigh quotient with the
             // diagonal scale.
-            if info.shift == 0.0 && self.near_null(&du) {
+            let slope: f64 = a.r.iter().zip(&du).map(|(r, d)| r * d).sum();
+            if info.shift == 0.0 && self.near_null(&du, slope) {
                 *singular = true;
                 last_shift = f64::MIN_POSITIVE;
             }
@@ -744,15 +770,17 @@ impl<'a> Solver<'a> {
             // Π(α) ≤ Π(0) + 1e-4 α r·du, or when the residual norm falls (which decides near
             // convergence, where Π is all round-off). Trial lengths minimise the quadratic through
             // Π(0), Π'(0) and Π(α), within [0.05 α, 0.5 α].
-            let slope: f64 = a.r.iter().zip(&du).map(|(r, d)| r * d).sum();
             let pi0 = a.energy;
             let mut alpha = 1.0;
             let mut best = (f64::INFINITY, 0.0);
             let mut accepted = false;
-            for _ in 0..16 {
-                self.add_free(&du, alpha);
-                let trial = self.assemble(lambda, terms, false);
-                self.add_free(&du, -alpha);
+            u_base.clone_from(&self.model.u);
+            for trial_number in 0..16 {
+                // After a full step the next one is most likely full too: its trial is then
+                // assembled with the tangent, kept for the next iteration if accepted.
+                let speculate = trial_number == 0 && last_full_step;
+                self.set_free(&u_base, &du, alpha);
+                let trial = self.assemble(lambda, terms, speculate);
                 let (tn, pi) = if trial.admissible {
                     (norm2(&trial.r), trial.energy)
                 } else {
@@ -764,8 +792,12 @@ impl<'a> Solver<'a> {
                 let armijo = slope < 0.0 && pi <= pi0 + 1e-4 * alpha * slope;
                 if armijo || tn <= (1.0 - 1e-4 * alpha) * rn || tn <= tol_r {
                     accepted = true;
+                    if speculate {
+                        carried = Some(trial);
+                    }
                     break;
                 }
+                self.model.u.copy_from_slice(&u_base);
                 let next = if pi.is_finite() && slope < 0.0 {
                     -slope * alpha * alpha / (2.0 * (pi - pi0 - slope * alpha))
                 } else {
@@ -780,6 +812,7 @@ impl<'a> Solver<'a> {
             if !accepted {
                 if best.0.is_finite() && best.0 < 10.0 * rn {
                     alpha = best.1;
+                    self.set_free(&u_base, &du, alpha);
                 } else {
                     return Err(format!(
                         "the line search found no acceptable point (residual {rn:.3e} N)"
@@ -796,7 +829,7 @@ impl<'a> Solver<'a> {
             } else if alpha < 0.1 {
                 self.damping = (10.0 * self.damping).clamp(1e-4, 1e2);
             }
-            self.add_free(&du, alpha);
+            last_full_step = alpha >= 0.999;
             last_du = alpha * norm_inf(&du);
         }
         Err(format!(
@@ -846,8 +879,8 @@ impl<'a> Solver<'a> {
             let mut history = Vec::new();
             match self.newton(target, &*terms, &mut history) {
                 Ok(iterations) => {
-                    // Work of this step (trapezoid rule on the internal force).
-                    self.assemble(target, &*terms, false);
+                    // Work of this step (trapezoid rule on the internal force; the elements were
+                    // last evaluated at the converged state).
                     let f_end = self.model.internal_force();
                     let du: Vec<f64> = self
                         .model
@@ -921,7 +954,27 @@ impl<'a> Solver<'a> {
         self.relax(lambda, &*terms);
         // Leave the element outputs at the final state.
         self.assemble(lambda, &*terms, false);
+        if self.options.time_bare_factorization {
+            self.stats.bare_factor_solve_s = Some(self.time_bare_factorization(7));
+        }
         Ok(())
+    }
+
+    /// The median wall time of `repetitions` factorizations + solves of the last assembled
+    /// tangent, with nothing else around them, s.
+    fn time_bare_factorization(&mut self, repetitions: usize) -> f64 {
+        let values = self.values.clone();
+        let n = self.model.free_dofs();
+        let mut times: Vec<f64> = (0..repetitions.max(1))
+            .map(|_| {
+                let mut rhs = vec![1.0; n];
+                let t = Instant::now();
+                let _ = self.model.linear.factor_solve(&values, &mut rhs);
+                t.elapsed().as_secs_f64()
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        times[times.len() / 2]
     }
 
     /// The stabilisation force at the current state over the internal force, both as norms.

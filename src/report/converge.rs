@@ -44,3 +44,108 @@ pub fn chart(mesh: &Ladder, steps: &Ladder) -> LineChart {
     }
     chart
 }
+
+/// The same errors as a text chart (log-log), for a terminal or a README: `S`/`F` the mesh
+/// ladder's max shear (°) and punch force (%), `s`/`f` the step ladder's; `*` where marks meet.
+/// Axes span whole decades around the points.
+pub fn text_chart(mesh: &Ladder, steps: &Ladder, width: usize, height: usize) -> String {
+    let mut points: Vec<(f64, f64, char)> = Vec::new();
+    for (ladder, marks) in [(mesh, ['S', 'F']), (steps, ['s', 'f'])] {
+        for (i, r) in ladder.rungs.iter().enumerate() {
+            for (k, mark) in marks.iter().enumerate() {
+                let e = ladder.error(i, k);
+                if r.converged && r.wall_s > 0.0 && e > 0.0 {
+                    points.push((r.wall_s, e, *mark));
+                }
+            }
+        }
+    }
+    text_scatter(&points, width, height, "wall time (s)", "error")
+}
+
+/// A log-log scatter of `(x, y, mark)` on a `width × height` grid of characters, with decade
+/// ticks on both axes.
+fn text_scatter(
+    points: &[(f64, f64, char)],
+    width: usize,
+    height: usize,
+    x_label: &str,
+    y_label: &str,
+) -> String {
+    if points.is_empty() {
+        return String::from("(no errors to chart)\n");
+    }
+    let decades = |f: fn(&(f64, f64, char)) -> f64| {
+        let lo = points.iter().map(f).fold(f64::INFINITY, f64::min);
+        let hi = points.iter().map(f).fold(0.0, f64::max);
+        let (lo, hi) = (lo.log10().floor(), hi.log10().ceil());
+        (lo, if hi > lo { hi } else { lo + 1.0 })
+    };
+    let (x0, x1) = decades(|p| p.0);
+    let (y0, y1) = decades(|p| p.1);
+    let (w, h) = (width.max(10), height.max(4));
+    let column = |x: f64| (((x.log10() - x0) / (x1 - x0)) * (w - 1) as f64).round() as usize;
+    let row = |y: f64| (((y1 - y.log10()) / (y1 - y0)) * (h - 1) as f64).round() as usize;
+    let mut grid = vec![vec![' '; w]; h];
+    for &(x, y, mark) in points {
+        let (c, r) = (column(x).min(w - 1), row(y).min(h - 1));
+        grid[r][c] = if grid[r][c] == ' ' || grid[r][c] == mark {
+            mark
+        } else {
+            '*'
+        };
+    }
+    let label = |e: f64| format!("1e{}", e as i64);
+    let mut out = format!("{y_label}\n");
+    for (r, line) in grid.iter().enumerate() {
+        // A tick where a whole decade falls on this row.
+        let e = y1 - (r as f64) * (y1 - y0) / (h - 1) as f64;
+        let tick = if (e - e.round()).abs() < 0.5 * (y1 - y0) / (h - 1) as f64 {
+            label(e.round())
+        } else {
+            String::new()
+        };
+        out.push_str(&format!(
+            "{tick:>6} |{}\n",
+            line.iter().collect::<String>().trim_end()
+        ));
+    }
+    out.push_str(&format!("{:>6} +{}\n", "", "-".repeat(w)));
+    let mut axis = vec![' '; w + 8];
+    for e in (x0 as i64)..=(x1 as i64) {
+        let c = column(10f64.powi(e as i32));
+        for (j, ch) in label(e as f64).chars().enumerate() {
+            if let Some(slot) = axis.get_mut(8 + c + j) {
+                *slot = ch;
+            }
+        }
+    }
+    out.push_str(axis.iter().collect::<String>().trim_end());
+    out.push_str(&format!("\n{:>width$}\n", x_label, width = w + 8));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn marks_sit_at_their_logarithms() {
+        // x over [1e-1, 1e1] on 21 columns: 1 s is column 10; y over [1e-2, 1e0] on 5 rows:
+        // 0.1 is row 2, 1 row 0, 0.01 row 4.
+        let chart = text_scatter(
+            &[(1.0, 0.1, 'S'), (0.1, 1.0, 'F'), (10.0, 0.01, 'f')],
+            21,
+            5,
+            "x",
+            "y",
+        );
+        let rows: Vec<&str> = chart.lines().skip(1).take(5).collect();
+        assert_eq!(rows[0], "   1e0 |F", "{chart}");
+        assert_eq!(rows[2], "  1e-1 |          S", "{chart}");
+        assert_eq!(rows[4], "  1e-2 |                    f", "{chart}");
+        // Two different marks in one cell become `*`.
+        let chart = text_scatter(&[(1.0, 1.0, 'S'), (1.0, 1.0, 's')], 11, 4, "x", "y");
+        assert!(chart.contains('*'), "{chart}");
+    }
+}
