@@ -86,19 +86,19 @@ impl Accuracy {
             Accuracy::Coarse => ErrorEstimate {
                 max_shear_deg: 4.0,
                 punch_force_pct: 6.0,
-                open_box_wall_s: 0.74,
+                open_box_wall_s: 0.70,
             },
             // Open 58.89° (0.64°, force 1.1 %), tight 78.01° (0.46°).
             Accuracy::Standard => ErrorEstimate {
                 max_shear_deg: 1.0,
                 punch_force_pct: 1.5,
-                open_box_wall_s: 1.29,
+                open_box_wall_s: 1.18,
             },
             // Open 59.53° (0.36° over the 1.77 mm rung), tight 78.47° (0.06°); force 0.08 %.
             Accuracy::Fine => ErrorEstimate {
                 max_shear_deg: 0.4,
                 punch_force_pct: 0.5,
-                open_box_wall_s: 9.39,
+                open_box_wall_s: 9.75,
             },
         }
     }

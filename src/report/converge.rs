@@ -111,7 +111,7 @@ fn text_scatter(
         ));
     }
     out.push_str(&format!("{:>6} +{}\n", "", "-".repeat(w)));
-    let mut axis = vec![' '; w + 8];
+    let mut axis = vec![' '; w + 14];
     for e in (x0 as i64)..=(x1 as i64) {
         let c = column(10f64.powi(e as i32));
         for (j, ch) in label(e as f64).chars().enumerate() {
