@@ -69,8 +69,8 @@ pub struct NotFactorizable;
 /// assembly where each entry goes. faer then factorizes the stored matrix as it is, instead of
 /// permuting a copy of it at every factorization.
 pub struct SparseCholesky {
-    /// The pattern in the caller's numbering.
-    pattern: UpperPattern,
+    /// Equations.
+    n: usize,
     /// `new[i]`: the position of the caller's equation `i` in the factorized matrix.
     new: Vec<usize>,
     /// The lower triangle of `P K Pᵀ`, compressed columns (rows sorted).
@@ -146,7 +146,7 @@ impl SparseCholesky {
         SparseCholesky {
             shifted: vec![0.0; row_idx.len()],
             permuted_rhs: vec![0.0; n],
-            pattern,
+            n,
             new,
             col_ptr,
             row_idx,
@@ -157,9 +157,9 @@ impl SparseCholesky {
         }
     }
 
-    /// The pattern in the caller's numbering.
-    pub fn pattern(&self) -> &UpperPattern {
-        &self.pattern
+    /// Equations.
+    pub fn n(&self) -> usize {
+        self.n
     }
 
     /// Stored entries: the length of the value array the assembly fills.
@@ -181,7 +181,7 @@ impl SparseCholesky {
 
     /// `y = K x` in the caller's numbering, for `K` stored in `values`.
     pub fn mul(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
-        let n = self.pattern.n;
+        let n = self.n;
         let mut xp = vec![0.0; n];
         for (i, &v) in x.iter().enumerate() {
             xp[self.new[i]] = v;
@@ -215,7 +215,7 @@ impl SparseCholesky {
     }
 
     fn factorize(&mut self, values: &[f64]) -> bool {
-        let n = self.pattern.n;
+        let n = self.n;
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
         let a = SparseColMatRef::new(sym, values);
         let stack = MemStack::new(&mut self.mem);

@@ -366,12 +366,12 @@ impl Model {
 
     /// Free (solved-for) dofs.
     pub fn free_dofs(&self) -> usize {
-        self.linear.pattern().n
+        self.linear.n()
     }
 
     /// Non-zeros of the tangent's upper triangle and of its Cholesky factor.
     pub fn sparsity(&self) -> (usize, usize) {
-        (self.linear.pattern().nnz(), self.linear.factor_nnz())
+        (self.linear.nnz(), self.linear.factor_nnz())
     }
 
     /// Current nodal positions.
