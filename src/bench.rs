@@ -116,25 +116,24 @@ pub struct BoxRun {
     pub dofs: usize,
     pub steps: u32,
     pub newton_iterations: u32,
+    /// GMRES iterations over the run (the non-symmetric part of the friction).
+    pub krylov_iterations: u32,
     /// Median and all repetitions of the whole run's wall time, s.
     pub wall_s: f64,
     pub samples: Vec<f64>,
-    /// Per Newton iteration (from the median run), s: the element assembly (law, element
-    /// forces and tangents into the sparse matrix), the contact terms, the factorization and
-    /// solve, and the rest (line search, step bookkeeping, outputs).
+    /// Timed on the final state, each a median of repetitions, s: an assembly with the tangent
+    /// (elements, law, contact), the contact terms alone with their blocks, and a
+    /// factorization + solve of that tangent with nothing else around it.
     pub assembly_s: f64,
     pub contact_s: f64,
-    pub factor_solve_s: f64,
-    pub other_s: f64,
-    /// A factorization + solve of the run's last tangent timed on its own, nothing else
-    /// around it (median over the repetitions), s.
     pub bare_factor_solve_s: f64,
 }
 
 impl BoxRun {
-    /// One Newton iteration's wall time.
+    /// One Newton iteration's wall time: the median run over its Newton iterations
+    /// (everything included: assemblies, line searches, Krylov, step bookkeeping).
     pub fn iteration_s(&self) -> f64 {
-        self.assembly_s + self.contact_s + self.factor_solve_s + self.other_s
+        self.wall_s / self.newton_iterations.max(1) as f64
     }
 
     /// One Newton iteration's wall time over a bare factorization + solve of the same matrix:
@@ -144,35 +143,67 @@ impl BoxRun {
     }
 }
 
-/// Runs the open box `repetitions` times on one thread.
+/// The median wall time of `repetitions` calls of `run`, s.
+fn median_time(repetitions: usize, mut run: impl FnMut()) -> f64 {
+    median(
+        (0..repetitions.max(1))
+            .map(|_| {
+                let t = Instant::now();
+                run();
+                t.elapsed().as_secs_f64()
+            })
+            .collect(),
+    )
+}
+
+/// Runs the open box `repetitions` times on one thread, then times the parts of an iteration
+/// on its final state.
 pub fn paper_box_run(element_size_mm: f64, repetitions: usize) -> BoxRun {
-    let mut p = paper_box(element_size_mm);
-    let mut runs: Vec<crate::core::drawing::DrawingResult> = (0..repetitions.max(1))
-        .map(|_| crate::core::drawing::solve(&p, &mut |_| {}))
-        .collect();
-    let samples: Vec<f64> = runs.iter().map(|r| r.wall_s).collect();
-    // One more run that ends by timing its last tangent's factorization + solve alone (kept
-    // out of the runs above, whose wall time it would add to).
-    p.solver.time_bare_factorization = true;
-    let bare = crate::core::drawing::solve(&p, &mut |_| {})
-        .stats
-        .bare_factor_solve_s
-        .unwrap_or(f64::NAN);
-    runs.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
-    let r = &runs[runs.len() / 2];
-    let n = r.stats.newton_iterations.max(1) as f64;
-    let (a, c, f) = (r.stats.assembly_s, r.stats.nodal_s, r.stats.factor_solve_s);
+    use crate::core::solver::{NodalTerms, NodeBlock, Solver};
+    let p = paper_box(element_size_mm);
+    let mut samples = Vec::new();
+    let mut last = None;
+    for _ in 0..repetitions.max(1) {
+        let mut prepared = p.prepare().map_err(|e| e.2).expect("the open box is well posed");
+        let t = Instant::now();
+        let mut solver = Solver::new(&mut prepared.model, p.solver.clone());
+        let outcome = solver.solve(&prepared.prescribed, &mut prepared.contact, &mut |_| {
+            std::ops::ControlFlow::Continue(())
+        });
+        samples.push(t.elapsed().as_secs_f64());
+        assert!(outcome.is_ok(), "the open box did not converge: {outcome:?}");
+        let stats = solver.stats.clone();
+        drop(solver);
+        last = Some((prepared, stats));
+    }
+    let (mut prepared, stats) = last.expect("one run at least");
+    let dofs = prepared.model.free_dofs();
+    let contact = &prepared.contact;
+    let x = prepared.model.positions();
+    let mut r = vec![0.0; 3 * x.len()];
+    let mut blocks = vec![NodeBlock::default(); x.len()];
+    let contact_s = median_time(15, || {
+        r.iter_mut().for_each(|v| *v = 0.0);
+        blocks.iter_mut().for_each(|b| *b = NodeBlock::default());
+        black_box(contact.add(1.0, &x, &mut r, Some(&mut blocks)));
+    });
+    let mut solver = Solver::new(&mut prepared.model, p.solver.clone());
+    let assembly_s = median_time(15, || solver.assemble_tangent(1.0, contact));
+    let n = solver.model.free_dofs();
+    let bare_factor_solve_s = median_time(15, || {
+        let mut rhs = vec![1.0; n];
+        black_box(solver.factor_solve_last_tangent(&mut rhs));
+    });
     BoxRun {
-        dofs: r.dofs,
-        steps: r.stats.steps,
-        newton_iterations: r.stats.newton_iterations,
+        dofs,
+        steps: stats.steps,
+        newton_iterations: stats.newton_iterations,
+        krylov_iterations: stats.krylov_iterations,
         wall_s: median(samples.clone()),
         samples,
-        assembly_s: a / n,
-        contact_s: c / n,
-        factor_solve_s: f / n,
-        other_s: (r.wall_s - a - c - f).max(0.0) / n,
-        bare_factor_solve_s: bare,
+        assembly_s,
+        contact_s,
+        bare_factor_solve_s,
     }
 }
 
@@ -182,8 +213,9 @@ pub fn dof_scaling(sizes_mm: &[f64]) -> (Vec<(usize, f64)>, f64) {
     let points: Vec<(usize, f64)> = sizes_mm
         .iter()
         .map(|&h| {
+            let t = Instant::now();
             let r = crate::core::drawing::solve(&paper_box(h), &mut |_| {});
-            (r.dofs, r.wall_s)
+            (r.dofs, t.elapsed().as_secs_f64())
         })
         .collect();
     let xy: Vec<(f64, f64)> = points

@@ -840,7 +840,7 @@ impl Row {
     }
 
     fn from_summary(plan: &Plan, columns: &[Column], design: &Design, s: &RunSummary) -> Row {
-        let verdict = if !s.converged {
+        let verdict = if !s.converged || !s.unsound.is_empty() {
             Verdict::Failed
         } else if s.feasible {
             Verdict::Feasible
@@ -859,7 +859,9 @@ impl Row {
             wall_s: Some(round_to(s.wall_s, 3)),
             map: Some(format!("maps/{}.png", design.id)),
             verdict,
-            failure: s.failure.clone(),
+            failure: s.failure.clone().or_else(|| {
+                (!s.unsound.is_empty()).then(|| format!("not sound: {}", s.unsound.join("; ")))
+            }),
         }
     }
 
@@ -1313,6 +1315,7 @@ fn run_design(
     let mut problem = scene.to_problem();
     problem.solver.parallel = false;
     let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
+    let start = std::time::Instant::now();
     let result = drawing::solve_until(&problem, &mut |_| {
         if stopped() {
             ControlFlow::Break(())
@@ -1323,7 +1326,7 @@ fn run_design(
     if stopped() {
         return None;
     }
-    let summary = RunSummary::new(&design.id, scene, &result);
+    let summary = RunSummary::new(&design.id, scene, &result, start.elapsed().as_secs_f64());
     let ctx = MapContext {
         scene: &design.id,
         verdict: &summary.verdict,

@@ -32,13 +32,13 @@ fn ellipsoid_with_and_without_undulation() {
     println!(
         "ellipsoid: largest distance between the shapes {distance:.3} mm (stroke {} mm); max shear \
          {sa:.2}° with undulation, {sb:.2}° without (difference {:.2}°); max tension {:.1} N vs {:.1} N; \
-         {:.2} s and {:.2} s",
+         {} and {} Newton iterations",
         woven.stroke,
         sa - sb,
         a.max_tension_n(),
         b.max_tension_n(),
-        a.wall_s,
-        b.wall_s
+        a.stats.newton_iterations,
+        b.stats.newton_iterations
     );
     // "Not very large": well under the element size, and the shear within a couple of degrees.
     assert!(

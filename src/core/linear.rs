@@ -179,22 +179,30 @@ impl SparseCholesky {
             .map(|p| range.start + p)
     }
 
-    /// `y = K x` in the caller's numbering, for `K` stored in `values`.
-    pub fn mul(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+    /// `y = K x` in the caller's numbering, for `K` stored in `values`; `scratch` holds two
+    /// vectors of the permuted numbering (resized as needed).
+    pub fn mul(&self, values: &[f64], x: &[f64], y: &mut [f64], scratch: &mut Vec<f64>) {
         let n = self.n;
-        let mut xp = vec![0.0; n];
+        scratch.clear();
+        scratch.resize(2 * n, 0.0);
+        let (xp, yp) = scratch.split_at_mut(n);
         for (i, &v) in x.iter().enumerate() {
             xp[self.new[i]] = v;
         }
-        let mut yp = vec![0.0; n];
         for c in 0..n {
+            let xc = xp[c];
+            let mut acc = 0.0;
             for p in self.col_ptr[c]..self.col_ptr[c + 1] {
                 let r = self.row_idx[p];
-                yp[r] += values[p] * xp[c];
+                let v = values[p];
                 if r != c {
-                    yp[c] += values[p] * xp[r];
+                    yp[r] += v * xc;
+                    acc += v * xp[r];
+                } else {
+                    acc += v * xc;
                 }
             }
+            yp[c] += acc;
         }
         for (i, v) in y.iter_mut().enumerate() {
             *v = yp[self.new[i]];
@@ -232,40 +240,44 @@ impl SparseCholesky {
             .is_ok()
     }
 
-    /// Factorizes `values` and solves in place; on a non-positive pivot retries on
-    /// `K + δ diag(K)` (plus a floor for zero diagonals) with `δ = 1e-10, 1e-8, …, 1`.
+    /// Factorizes `values`; on a non-positive pivot retries on `K + δ diag(K)` (plus a floor for
+    /// zero diagonals) with `δ = 1e-10, 1e-8, …, 1`. [`SparseCholesky::solve_in_place`] then
+    /// solves with it.
+    pub fn factor(&mut self, values: &[f64]) -> Result<SolveInfo, NotFactorizable> {
+        if self.factorize(values) {
+            return Ok(SolveInfo { shift: 0.0 });
+        }
+        let max_diag = self.diagonal_max(values).max(f64::MIN_POSITIVE);
+        for k in 0..6 {
+            let shift = 10f64.powi(-10 + 2 * k);
+            self.shifted.copy_from_slice(values);
+            for &s in &self.diag {
+                let d = self.shifted[s].abs();
+                self.shifted[s] += shift * d.max(1e-3 * max_diag);
+            }
+            let shifted = std::mem::take(&mut self.shifted);
+            let ok = self.factorize(&shifted);
+            self.shifted = shifted;
+            if ok {
+                return Ok(SolveInfo { shift });
+            }
+        }
+        Err(NotFactorizable)
+    }
+
+    /// [`SparseCholesky::factor`], then the solve in place.
     pub fn factor_solve(
         &mut self,
         values: &[f64],
         rhs: &mut [f64],
     ) -> Result<SolveInfo, NotFactorizable> {
-        let mut shift = 0.0;
-        if !self.factorize(values) {
-            let max_diag = self.diagonal_max(values).max(f64::MIN_POSITIVE);
-            let mut ok = false;
-            for k in 0..6 {
-                shift = 10f64.powi(-10 + 2 * k);
-                self.shifted.copy_from_slice(values);
-                for &s in &self.diag {
-                    let d = self.shifted[s].abs();
-                    self.shifted[s] += shift * d.max(1e-3 * max_diag);
-                }
-                let shifted = std::mem::take(&mut self.shifted);
-                ok = self.factorize(&shifted);
-                self.shifted = shifted;
-                if ok {
-                    break;
-                }
-            }
-            if !ok {
-                return Err(NotFactorizable);
-            }
-        }
-        self.solve(rhs);
-        Ok(SolveInfo { shift })
+        let info = self.factor(values)?;
+        self.solve_in_place(rhs);
+        Ok(info)
     }
 
-    fn solve(&mut self, rhs: &mut [f64]) {
+    /// Solves with the last factorization, in place.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
         for (i, &v) in rhs.iter().enumerate() {
             self.permuted_rhs[self.new[i]] = v;
         }

@@ -257,13 +257,16 @@ impl Tool {
     }
 
     /// For a die: the signed plan distance of `(x, y)` to its opening (positive outside, on the
-    /// face) and its entry radius.
-    pub fn opening_distance(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+    /// face), its gradient in the plane, and the entry radius.
+    pub fn opening_distance(&self, x: f64, y: f64) -> Option<(f64, [f64; 2], f64)> {
         match self {
             Tool::Die {
                 opening,
                 entry_radius,
-            } => Some((opening.plan(x, y).d, *entry_radius)),
+            } => {
+                let pl = opening.plan(x, y);
+                Some((pl.d, pl.g, *entry_radius))
+            }
             _ => None,
         }
     }

@@ -57,10 +57,13 @@ pub struct RunSummary {
     pub steps: u32,
     pub cutbacks: u32,
     pub newton_iterations: u32,
-    /// Work done against the viscous stabilisation over the punch's work, and the stabilisation
-    /// force over the internal force at the end (both dimensionless).
+    /// Work done by forces out of balance over the punch's work (dimensionless): what of the
+    /// punch's work is not the paper's model. The stabilisation damps the Newton corrections
+    /// only, so a converged state carries none of it.
     pub stabilisation_work_share: f64,
-    pub stabilisation_force_ratio: f64,
+    /// Why a converged result cannot be trusted (empty: it can): too deep a penetration, too
+    /// much work out of balance.
+    pub unsound: Vec<String>,
     /// A singular tangent was met during the run (part of the blank was a mechanism).
     pub mechanism: bool,
     /// Terms the scene did not need and that were not built.
@@ -72,19 +75,27 @@ pub struct RunSummary {
 }
 
 impl RunSummary {
-    pub fn new(name: &str, scene: &Scene, result: &DrawingResult) -> RunSummary {
+    /// The summary of `result`, which took `wall_s` seconds.
+    pub fn new(name: &str, scene: &Scene, result: &DrawingResult, wall_s: f64) -> RunSummary {
         let locking = scene.fabric.locking_angle_deg;
         let breaking = scene.fabric.break_tension_n;
         let (e, max_shear_deg) = result.max_shear();
         let max_tension_n = result.max_tension_n();
         let shear_over = max_shear_deg > locking;
         let tension_over = max_tension_n > breaking;
-        let feasible = result.converged && !shear_over && !tension_over;
+        let unsound: Vec<String> = if result.converged {
+            result.unsound().iter().map(|u| u.to_string()).collect()
+        } else {
+            Vec::new()
+        };
+        let feasible = result.converged && unsound.is_empty() && !shear_over && !tension_over;
         let verdict = if !result.converged {
             format!(
                 "RUN FAILED at stroke {:.1} of {:.1} mm",
                 result.stroke_reached_mm, scene.process.stroke
             )
+        } else if !unsound.is_empty() {
+            format!("NOT SOUND: {}", unsound.join("; "))
         } else {
             match (shear_over, tension_over) {
                 (false, false) => "FEASIBLE".to_string(),
@@ -105,7 +116,7 @@ impl RunSummary {
         RunSummary {
             scene: name.to_string(),
             converged: result.converged,
-            failure: result.failure.clone(),
+            failure: result.failure.as_ref().map(|f| f.to_string()),
             feasible,
             verdict,
             max_shear_deg,
@@ -119,7 +130,7 @@ impl RunSummary {
             stroke_reached_mm: result.stroke_reached_mm,
             penetration_mm: result.penetration_mm,
             draw_in_mm: result.draw_in_mm,
-            wall_s: result.wall_s,
+            wall_s,
             accuracy: level.map(|a| a.name().to_string()),
             max_shear_err_deg: level.map(|a| a.error().max_shear_deg),
             punch_force_err_pct: level.map(|a| a.error().punch_force_pct),
@@ -130,7 +141,7 @@ impl RunSummary {
             cutbacks: result.stats.cutbacks,
             newton_iterations: result.stats.newton_iterations,
             stabilisation_work_share: result.stabilisation_work_share,
-            stabilisation_force_ratio: result.stats.stabilisation_force_ratio,
+            unsound,
             mechanism: result.stats.mechanism,
             left_out: result.left_out.clone(),
             files: BTreeMap::new(),
@@ -214,13 +225,12 @@ impl RunSummary {
         );
         let _ = writeln!(
             out,
-            "solver       {} steps, {} cut-backs, {} Newton iterations, {:.1} s; stabilisation {:.2} % of the punch's work, its force at the end {:.1e} of the internal force{}",
+            "solver       {} steps, {} cut-backs, {} Newton iterations, {:.2} s; forces out of balance did {:.1e} % of the punch's work{}",
             self.steps,
             self.cutbacks,
             self.newton_iterations,
             self.wall_s,
             100.0 * self.stabilisation_work_share,
-            self.stabilisation_force_ratio,
             if self.mechanism {
                 "; a singular tangent was met (part of the blank was a mechanism)"
             } else {

@@ -3,8 +3,15 @@
 //! and yarns are symmetric about both axes), builds the contact terms, drives the punch to full
 //! stroke and returns a [`DrawingResult`] with the fields and figures a user checks.
 
+mod failure;
+mod result;
+mod size;
+
+pub use failure::{DrawingFailure, Unrestrained};
+pub use result::{DrawingResult, PENETRATION_LIMIT, UNBALANCED_WORK_LIMIT, Unsound};
+pub use size::SizeEstimate;
+
 use std::ops::ControlFlow;
-use std::time::Instant;
 
 use super::contact::{Contact, ContactOptions, Holder, ToolMotion};
 use super::law::{CellLaw, CellParams};
@@ -122,111 +129,10 @@ pub struct DrawingProblem {
     pub penalty_factor: f64,
     /// Slip that mobilises full friction, as a fraction of the element size.
     pub slip_regularisation: f64,
-}
-
-/// The solved part of the blank and what was found on it.
-#[derive(Clone, Debug)]
-pub struct DrawingResult {
-    pub converged: bool,
-    /// Why the run stopped short, if it did.
-    pub failure: Option<String>,
-    /// Whether the mesh is a quarter (x ≥ 0, y ≥ 0) to be mirrored for pictures.
-    pub quarter: bool,
-    pub mesh: Mesh,
-    /// Final nodal positions, mm.
-    pub positions: Vec<[f64; 3]>,
-    /// Shear angle of each element, degrees (signed).
-    pub shear_deg: Vec<f64>,
-    /// Mean warp and weft tensions of each element, N per yarn.
-    pub t11_n: Vec<f64>,
-    pub t22_n: Vec<f64>,
-    /// Largest yarn tension of each element, N.
-    pub tension_max_n: Vec<f64>,
-    /// Contact status of each node: 0 free, 1 punch, 2 die, 3 die and holder.
-    pub contact: Vec<u8>,
-    /// Punch stroke reached, mm.
-    pub stroke_reached_mm: f64,
-    /// Punch force on the whole blank, N, and its history against the stroke (mm, N).
-    pub punch_force_n: f64,
-    pub force_history: Vec<(f64, f64)>,
-    /// Largest penetration of a node into a tool, mm.
-    pub penetration_mm: f64,
-    /// Largest draw-in of the blank's edge (inward plan displacement), mm.
-    pub draw_in_mm: f64,
-    /// Free dofs of the solved model.
-    pub dofs: usize,
-    pub stats: SolveStats,
-    /// Work of the punch on the blank (the force history integrated over the stroke), N·mm.
-    pub punch_work_nmm: f64,
-    /// Work done against the stabilisation over the punch's work: how much of what the punch
-    /// put in went into the numerical stabiliser rather than the paper's model (yarn energy,
-    /// friction, holder).
-    pub stabilisation_work_share: f64,
-    pub wall_s: f64,
-    /// Terms the scene did not need and that were not built.
-    pub left_out: Vec<String>,
-}
-
-impl DrawingResult {
-    /// The element with the largest absolute shear, and that shear (degrees).
-    pub fn max_shear(&self) -> (usize, f64) {
-        self.shear_deg
-            .iter()
-            .enumerate()
-            .map(|(e, s)| (e, s.abs()))
-            .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a })
-    }
-
-    /// Centre of element `e` in the final configuration, mm.
-    pub fn element_centre(&self, e: usize) -> [f64; 3] {
-        let q = self.mesh.quads[e];
-        let mut c = [0.0; 3];
-        for &n in &q {
-            for m in 0..3 {
-                c[m] += 0.25 * self.positions[n][m];
-            }
-        }
-        c
-    }
-
-    /// Share of the blank's initial area whose shear exceeds `limit_deg`, %.
-    pub fn area_over_limit_pct(&self, limit_deg: f64) -> f64 {
-        let mut over = 0.0;
-        let mut total = 0.0;
-        for (e, q) in self.mesh.quads.iter().enumerate() {
-            let a = quad_area(&[
-                self.mesh.nodes[q[0]],
-                self.mesh.nodes[q[1]],
-                self.mesh.nodes[q[2]],
-                self.mesh.nodes[q[3]],
-            ]);
-            total += a;
-            if self.shear_deg[e].abs() > limit_deg {
-                over += a;
-            }
-        }
-        if total > 0.0 {
-            100.0 * over / total
-        } else {
-            0.0
-        }
-    }
-
-    /// The largest yarn tension anywhere, N.
-    pub fn max_tension_n(&self) -> f64 {
-        self.tension_max_n.iter().fold(0.0, |a, &b| a.max(b))
-    }
-}
-
-fn quad_area(x: &[[f64; 3]; 4]) -> f64 {
-    let d1 = [x[2][0] - x[0][0], x[2][1] - x[0][1], x[2][2] - x[0][2]];
-    let d2 = [x[3][0] - x[1][0], x[3][1] - x[1][1], x[3][2] - x[1][2]];
-    let c = [
-        d1[1] * d2[2] - d1[2] * d2[1],
-        d1[2] * d2[0] - d1[0] * d2[2],
-        d1[0] * d2[1] - d1[1] * d2[0],
-    ];
-    0.5 * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt()
+    /// Gap over which the contact force fades in, as a fraction of the element size.
+    pub contact_smoothing: f64,
+    /// Lag friction's normal force and direction (measured against; see `ContactOptions`).
+    pub lagged_friction: bool,
 }
 
 impl DrawingProblem {
@@ -252,6 +158,8 @@ impl DrawingProblem {
             solver: SolverOptions::default(),
             penalty_factor: 10.0,
             slip_regularisation: 0.01,
+            contact_smoothing: 0.01,
+            lagged_friction: false,
         }
     }
 
@@ -263,6 +171,96 @@ impl DrawingProblem {
             Symmetry::Quarter => true,
             Symmetry::Auto => (self.yarn_angle_deg - 90.0).abs() < 1e-9,
         }
+    }
+
+    /// What is missing for the paper's model to have a unique answer, if anything: the fabric
+    /// has no shear and no bending stiffness, so it takes tension only when the flange is held
+    /// back, by the holder's pressure through friction.
+    pub fn unrestrained(&self) -> Option<Unrestrained> {
+        if self.friction == 0.0 {
+            Some(Unrestrained::NoFriction)
+        } else if self.holder_pressure == 0.0 {
+            Some(Unrestrained::NoHolder)
+        } else {
+            None
+        }
+    }
+
+    /// Element counts along the warp and weft of the solved part.
+    pub fn grid(&self) -> [usize; 2] {
+        let length = self.solved_lengths(self.quarter_applies());
+        [0, 1].map(|a| ((length[a] / self.element_size).round() as usize).max(1))
+    }
+
+    fn solved_lengths(&self, quarter: bool) -> [f64; 2] {
+        let [bx, by] = self.blank;
+        if quarter {
+            [0.5 * bx, 0.5 * by]
+        } else {
+            [bx, by]
+        }
+    }
+
+    /// The mesh of the solved part: a yarn grid over the blank (or its quarter x, y ≥ 0).
+    fn blank_mesh(&self, quarter: bool) -> Mesh {
+        let [bx, by] = self.blank;
+        let angle = self.yarn_angle_deg.to_radians();
+        let origin = if quarter {
+            [0.0, 0.0]
+        } else {
+            [-0.5 * bx, -0.5 * by]
+        };
+        let mut mesh = Mesh::yarn_grid(origin, self.solved_lengths(quarter), self.grid(), angle);
+        if !quarter && (angle - std::f64::consts::FRAC_PI_2).abs() > 1e-12 {
+            // A sheared yarn grid is a parallelogram: centre it on the punch.
+            let shift = 0.5 * by * angle.cos();
+            for p in &mut mesh.nodes {
+                p[0] -= shift;
+            }
+        }
+        mesh
+    }
+
+    /// The contact terms: the punch moving down by the stroke, the die, the holder.
+    fn contact(&self, model: &Model) -> Contact {
+        let h = self.element_size;
+        let (punch, die) = self.tooling.tools();
+        let tools = vec![
+            ToolMotion {
+                tool: punch,
+                tip_start: 0.0,
+                stroke: self.stroke,
+            },
+            ToolMotion {
+                tool: die,
+                tip_start: 0.0,
+                stroke: 0.0,
+            },
+        ];
+        let holder = (self.holder_pressure > 0.0).then_some(Holder {
+            pressure: self.holder_pressure,
+            die,
+            band: h,
+        });
+        let (area, cells) = node_shares(model);
+        let law = &model.law.p;
+        let c_mean = 0.5 * (law.c[0] + law.c[1]);
+        let l_mean = 0.5 * (law.l0[0] + law.l0[1]);
+        Contact::new(
+            tools,
+            holder,
+            ContactOptions {
+                friction: self.friction,
+                slip_regularisation: self.slip_regularisation * h,
+                penalty_factor: self.penalty_factor,
+                contact_smoothing: self.contact_smoothing * h,
+                lagged: self.lagged_friction,
+            },
+            area,
+            &cells,
+            c_mean / l_mean,
+            2.0 * h,
+        )
     }
 }
 
@@ -280,6 +278,22 @@ pub fn node_shares(model: &Model) -> (Vec<f64>, Vec<f64>) {
     (area, cells)
 }
 
+/// The symmetry planes of a quarter: `u_x = 0` on x = 0, `u_y = 0` on y = 0.
+fn symmetry_planes(mesh: &Mesh, quarter: bool) -> LinearPrescribed {
+    let mut prescribed = LinearPrescribed::default();
+    if quarter {
+        for (i, p) in mesh.nodes.iter().enumerate() {
+            for m in 0..2 {
+                if p[m].abs() < 1e-9 {
+                    prescribed.dofs.push(3 * i + m);
+                    prescribed.at_full_load.push(0.0);
+                }
+            }
+        }
+    }
+    prescribed
+}
+
 /// Solves the drawing; `progress` receives the stroke fraction after every accepted step.
 pub fn solve(problem: &DrawingProblem, progress: &mut dyn FnMut(f64)) -> DrawingResult {
     solve_until(problem, &mut |fraction| {
@@ -288,140 +302,115 @@ pub fn solve(problem: &DrawingProblem, progress: &mut dyn FnMut(f64)) -> Drawing
     })
 }
 
+/// A drawing ready to solve: its model at the start, the contact terms, the symmetry planes.
+pub struct Prepared {
+    pub model: Model,
+    pub contact: Contact,
+    pub prescribed: LinearPrescribed,
+    pub quarter: bool,
+    /// Terms the scene did not need and that were not built.
+    pub left_out: Vec<String>,
+}
+
+impl DrawingProblem {
+    /// Meshes the blank and builds the model and the contact terms, or says why the problem
+    /// has no answer (with the mesh that was built, for a result to show).
+    pub fn prepare(&self) -> Result<Prepared, (Mesh, Vec<String>, DrawingFailure)> {
+        let quarter = self.quarter_applies();
+        let mesh = self.blank_mesh(quarter);
+        let mut left_out = Vec::new();
+        if !quarter {
+            left_out.push("quarter symmetry (yarns not along both axes)".to_string());
+        }
+        if !self.fabric.undulation {
+            left_out.push("undulation (the linear yarn law is used)".to_string());
+        }
+        if self.holder_pressure == 0.0 {
+            left_out.push("blank holder (pressure 0)".to_string());
+        }
+        if self.friction == 0.0 {
+            left_out.push("friction (μ = 0)".to_string());
+        }
+        if let Some(why) = self.unrestrained() {
+            return Err((mesh, left_out, DrawingFailure::NoUniqueShape(why)));
+        }
+        let prescribed = symmetry_planes(&mesh, quarter);
+        let law = CellLaw::new(self.fabric);
+        let model = match Model::new(mesh.clone(), law, &prescribed.dofs) {
+            Ok(m) => m,
+            Err(e) => return Err((mesh, left_out, DrawingFailure::BadElement(e))),
+        };
+        let contact = self.contact(&model);
+        Ok(Prepared {
+            model,
+            contact,
+            prescribed,
+            quarter,
+            left_out,
+        })
+    }
+}
+
 /// [`solve`] that can be stopped: when `progress` returns `ControlFlow::Break`, the run ends
 /// after that step, not converged, its failure saying so (the fields are those of that step).
 pub fn solve_until(
     problem: &DrawingProblem,
     progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
 ) -> DrawingResult {
-    let start = Instant::now();
-    let law = CellLaw::new(problem.fabric);
-    let quarter = problem.quarter_applies();
-    let [bx, by] = problem.blank;
-    let h = problem.element_size;
-    let angle = problem.yarn_angle_deg.to_radians();
-    let (origin, length) = if quarter {
-        ([0.0, 0.0], [0.5 * bx, 0.5 * by])
-    } else {
-        ([-0.5 * bx, -0.5 * by], [bx, by])
-    };
-    let n = [
-        ((length[0] / h).round() as usize).max(1),
-        ((length[1] / h).round() as usize).max(1),
-    ];
-    let mut mesh = Mesh::yarn_grid(origin, length, n, angle);
-    if !quarter && (angle - std::f64::consts::FRAC_PI_2).abs() > 1e-12 {
-        // A sheared yarn grid is a parallelogram: centre it on the punch.
-        let shift = [0.5 * by * angle.cos(), 0.0];
-        for p in &mut mesh.nodes {
-            p[0] -= shift[0];
+    let mut p = match problem.prepare() {
+        Ok(p) => p,
+        Err((mesh, left_out, failure)) => {
+            let quarter = problem.quarter_applies();
+            return failed_early(problem, mesh, quarter, failure, left_out);
         }
-    }
-    let mut left_out = Vec::new();
-    // Symmetry planes: u_x = 0 on x = 0, u_y = 0 on y = 0.
-    let mut prescribed = LinearPrescribed::default();
-    if quarter {
-        for (i, p) in mesh.nodes.iter().enumerate() {
-            if p[0].abs() < 1e-9 {
-                prescribed.dofs.push(3 * i);
-                prescribed.at_full_load.push(0.0);
-            }
-            if p[1].abs() < 1e-9 {
-                prescribed.dofs.push(3 * i + 1);
-                prescribed.at_full_load.push(0.0);
-            }
-        }
-    } else {
-        left_out.push("quarter symmetry (yarns not along both axes)".to_string());
-    }
-    if !problem.fabric.undulation {
-        left_out.push("undulation (the linear yarn law is used)".to_string());
-    }
-    let mut model = match Model::new(mesh.clone(), law, &prescribed.dofs) {
-        Ok(m) => m,
-        Err(f) => return failed_early(mesh, quarter, f.to_string(), start, left_out),
     };
-    let (punch, die) = problem.tooling.tools();
-    let tools = vec![
-        ToolMotion {
-            tool: punch,
-            tip_start: 0.0,
-            stroke: problem.stroke,
-        },
-        ToolMotion {
-            tool: die,
-            tip_start: 0.0,
-            stroke: 0.0,
-        },
-    ];
-    let holder = if problem.holder_pressure > 0.0 {
-        Some(Holder {
-            pressure: problem.holder_pressure,
-            die,
-            band: h,
-        })
-    } else {
-        left_out.push("blank holder (pressure 0)".to_string());
-        None
-    };
-    if problem.friction == 0.0 {
-        left_out.push("friction (μ = 0)".to_string());
-    }
-    let (area, cells) = node_shares(&model);
-    let c_mean = 0.5 * (law.p.c[0] + law.p.c[1]);
-    let l_mean = 0.5 * (law.p.l0[0] + law.p.l0[1]);
-    let mut contact = Contact::new(
-        tools,
-        holder,
-        ContactOptions {
-            friction: problem.friction,
-            slip_regularisation: problem.slip_regularisation * h,
-            penalty_factor: problem.penalty_factor,
-        },
-        area,
-        &cells,
-        c_mean / l_mean,
-        2.0 * h,
-    );
-    let dofs = model.free_dofs();
-    let mut solver = Solver::new(&mut model, problem.solver.clone());
-    let outcome = solver.solve(&prescribed, &mut contact, progress);
+    let dofs = p.model.free_dofs();
+    let mut solver = Solver::new(&mut p.model, problem.solver.clone());
+    let outcome = solver.solve(&p.prescribed, &mut p.contact, progress);
     let stats = solver.stats.clone();
+    let mut result = collect(problem, &p.model, &p.contact, p.quarter, stats, p.left_out);
+    result.dofs = dofs;
+    result.converged = outcome.is_ok();
+    result.failure = outcome.err().map(DrawingFailure::Solver);
+    result
+}
+
+/// The fields and figures of the model's final state.
+fn collect(
+    problem: &DrawingProblem,
+    model: &Model,
+    contact: &Contact,
+    quarter: bool,
+    stats: SolveStats,
+    left_out: Vec<String>,
+) -> DrawingResult {
     let lambda = stats.lambda;
     let x = model.positions();
     let sym = if quarter { 4.0 } else { 1.0 };
     let punch_force_n = -sym * contact.tool_force(0, lambda, &x)[2];
-    let force_history = contact
+    let force_history: Vec<(f64, f64)> = contact
         .punch_history
         .iter()
         .map(|(l, f)| (l * problem.stroke, -sym * f))
         .collect();
     let outputs = model.element_outputs();
-    let t11_n = outputs
-        .iter()
-        .map(|o| o.tension.iter().map(|t| t[0]).sum::<f64>() / 4.0)
-        .collect();
-    let t22_n = outputs
-        .iter()
-        .map(|o| o.tension.iter().map(|t| t[1]).sum::<f64>() / 4.0)
-        .collect();
+    let mean = |a: usize| -> Vec<f64> {
+        outputs
+            .iter()
+            .map(|o| o.tension.iter().map(|t| t[a]).sum::<f64>() / 4.0)
+            .collect()
+    };
     let punch_contact = contact.in_contact(0, lambda, &x);
     let die_contact = contact.in_contact(1, lambda, &x);
-    let held = contact.holder_force();
+    let held = contact.holder_force(&x);
     let status = (0..x.len())
-        .map(|i| {
-            if punch_contact[i] {
-                1
-            } else if die_contact[i] && held[i] > 0.0 {
-                3
-            } else if die_contact[i] {
-                2
-            } else {
-                0
-            }
+        .map(|i| match (punch_contact[i], die_contact[i], held[i] > 0.0) {
+            (true, _, _) => 1,
+            (false, true, true) => 3,
+            (false, true, false) => 2,
+            _ => 0,
         })
         .collect();
-    let draw_in_mm = edge_draw_in(&model.mesh, &x, quarter);
     let punch_work_nmm = {
         let mut w = 0.0;
         let mut last = (0.0, 0.0);
@@ -432,29 +421,29 @@ pub fn solve_until(
         w
     };
     let stabilisation_work_share = if punch_work_nmm > 0.0 {
-        sym * stats.stabilisation_work / punch_work_nmm
+        sym * stats.unbalanced_work / punch_work_nmm
     } else {
         0.0
     };
     DrawingResult {
-        converged: outcome.is_ok(),
-        failure: outcome.err().map(|f| f.to_string()),
+        converged: true,
+        failure: None,
         quarter,
+        element_size_mm: problem.element_size,
         shear_deg: model.shear_angles_deg(),
-        t11_n,
-        t22_n,
+        t11_n: mean(0),
+        t22_n: mean(1),
         tension_max_n: model.max_tension_n(),
         contact: status,
         stroke_reached_mm: lambda * problem.stroke,
         punch_force_n,
         force_history,
         penetration_mm: contact.max_penetration(lambda, &x),
-        draw_in_mm,
-        dofs,
+        draw_in_mm: edge_draw_in(&model.mesh, &x, quarter),
+        dofs: model.free_dofs(),
         stats,
         punch_work_nmm,
         stabilisation_work_share,
-        wall_s: start.elapsed().as_secs_f64(),
         left_out,
         positions: x,
         mesh: model.mesh.clone(),
@@ -493,19 +482,21 @@ fn edge_draw_in(mesh: &Mesh, x: &[[f64; 3]], quarter: bool) -> f64 {
     best
 }
 
+
 fn failed_early(
+    problem: &DrawingProblem,
     mesh: Mesh,
     quarter: bool,
-    cause: String,
-    start: Instant,
+    failure: DrawingFailure,
     left_out: Vec<String>,
 ) -> DrawingResult {
     let ne = mesh.quads.len();
     let nn = mesh.nodes.len();
     DrawingResult {
         converged: false,
-        failure: Some(cause),
+        failure: Some(failure),
         quarter,
+        element_size_mm: problem.element_size,
         positions: mesh.nodes.clone(),
         shear_deg: vec![0.0; ne],
         t11_n: vec![0.0; ne],
@@ -521,7 +512,6 @@ fn failed_early(
         stats: SolveStats::default(),
         punch_work_nmm: 0.0,
         stabilisation_work_share: 0.0,
-        wall_s: start.elapsed().as_secs_f64(),
         left_out,
         mesh,
     }

@@ -1,0 +1,493 @@
+//! Node-to-surface contact of the blank with the rigid tools: normal penalty ([`normal`]),
+//! Coulomb friction ([`friction`]) and the blank holder ([`holder`]), for every node.
+//!
+//! The penalty of a node is `k = factor · (C̄/L̄0) · cells(node)`: the stiffness of the cells it
+//! carries, so the penetration stays a small fraction of the element size for the forces the
+//! yarns can carry. Friction acts on both faces of the flange: the die face through the die's
+//! normal force (which carries the holder force) and the holder face with `μ p A w`, so a
+//! sliding flange carries `2 μ p` per unit area.
+
+pub mod friction;
+pub mod holder;
+pub mod normal;
+
+pub use holder::Holder;
+
+use super::solver::{NodalSums, NodalTerms, NodeBlock};
+use super::tools::Tool;
+
+/// One tool's role in the drawing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolMotion {
+    pub tool: Tool,
+    /// Tip height at load 0 and its change at full load (punches; 0 for dies).
+    pub tip_start: f64,
+    pub stroke: f64,
+}
+
+impl ToolMotion {
+    pub fn tip(&self, lambda: f64) -> f64 {
+        self.tip_start - lambda * self.stroke
+    }
+
+    pub fn at(&self, lambda: f64) -> Tool {
+        if self.tool.is_punch() {
+            self.tool.at_tip(self.tip(lambda))
+        } else {
+            self.tool
+        }
+    }
+
+    /// The tool's translation (along z) from load `from` to load `to`, mm.
+    fn travel(&self, from: f64, to: f64) -> f64 {
+        if self.tool.is_punch() {
+            self.tip(to) - self.tip(from)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Contact settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactOptions {
+    /// Coulomb friction coefficient between fabric and tools.
+    pub friction: f64,
+    /// Slip that mobilises full friction, mm.
+    pub slip_regularisation: f64,
+    /// Penalty factor (dimensionless, times the cells' stiffness).
+    pub penalty_factor: f64,
+    /// Gap over which the penalty's force and stiffness fade in, mm.
+    pub contact_smoothing: f64,
+    /// Friction's normal force and normal and the holder's weights lagged (taken from the last
+    /// [`NodalTerms::relag`], at the start of each step) instead of the current state: kept to
+    /// measure against, not the default.
+    pub lagged: bool,
+}
+
+/// Per node and tool: the friction anchor and what the line search's merit freezes.
+#[derive(Clone, Copy, Debug, Default)]
+struct Pair {
+    /// The friction anchor at the step's start (the tool's position then), mm.
+    anchor: [f64; 3],
+    /// The elastic slip carried over from the last step, mm.
+    carried: [f64; 3],
+    /// Signed distance at the step's start, mm.
+    d_start: f64,
+    /// Normal force and normal frozen by [`NodalTerms::freeze`].
+    frozen_force: f64,
+    frozen_normal: [f64; 3],
+}
+
+/// The contact terms of a drawing: tools, friction and holder, for every node of the blank.
+pub struct Contact {
+    pub tools: Vec<ToolMotion>,
+    pub holder: Option<Holder>,
+    pub options: ContactOptions,
+    /// Initial tributary area of each node, mm².
+    pub area: Vec<f64>,
+    /// Penalty of each node, N/mm.
+    pub penalty: Vec<f64>,
+    pairs: Vec<Pair>,
+    /// Holder weight of each node frozen by [`NodalTerms::freeze`].
+    frozen_weight: Vec<f64>,
+    lambda_start: f64,
+    /// Nodes within reach of each tool at the step's start (the rest are skipped).
+    active: Vec<Vec<u32>>,
+    /// Nodes the holder may press during the step.
+    held: Vec<u32>,
+    reach: f64,
+    /// Load factor and the force of the first tool (the punch) on the fabric (z component, N)
+    /// at the end of every accepted step.
+    pub punch_history: Vec<(f64, f64)>,
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn add_into(m: &mut [[f64; 3]; 3], a: &[[f64; 3]; 3]) {
+    for i in 0..3 {
+        for j in 0..3 {
+            m[i][j] += a[i][j];
+        }
+    }
+}
+
+impl Contact {
+    /// `area` and `cells` per node (initial), `stiffness_per_cell` = C̄/L̄0 (N/mm), `reach` (mm):
+    /// nodes farther than this from a tool at a step's start (beyond the tool's travel) are not
+    /// tested during the step.
+    pub fn new(
+        tools: Vec<ToolMotion>,
+        holder: Option<Holder>,
+        options: ContactOptions,
+        area: Vec<f64>,
+        cells: &[f64],
+        stiffness_per_cell: f64,
+        reach: f64,
+    ) -> Contact {
+        let n = area.len();
+        let penalty = cells
+            .iter()
+            .map(|c| options.penalty_factor * stiffness_per_cell * c)
+            .collect();
+        let nt = tools.len();
+        Contact {
+            tools,
+            holder,
+            options,
+            area,
+            penalty,
+            pairs: vec![Pair::default(); n * nt],
+            frozen_weight: vec![0.0; n],
+            lambda_start: 0.0,
+            active: vec![(0..n as u32).collect(); nt],
+            held: (0..n as u32).collect(),
+            reach,
+            punch_history: Vec::new(),
+        }
+    }
+
+    fn nodes(&self) -> usize {
+        self.area.len()
+    }
+
+    /// The largest penetration of any node into any tool at load `lambda`, mm.
+    pub fn max_penetration(&self, lambda: f64, x: &[[f64; 3]]) -> f64 {
+        self.tools
+            .iter()
+            .flat_map(|m| {
+                let tool = m.at(lambda);
+                x.iter().map(move |p| -tool.distance(*p).d)
+            })
+            .fold(0.0f64, f64::max)
+    }
+
+    /// The force the tool `t` exerts on the fabric at load `lambda` (normal and friction), N.
+    pub fn tool_force(&self, t: usize, lambda: f64, x: &[[f64; 3]]) -> [f64; 3] {
+        let mut f = [0.0; 3];
+        for (i, p) in x.iter().enumerate() {
+            let r = self.node_tool(i, t, lambda, *p, false).residual;
+            for m in 0..3 {
+                f[m] -= r[m];
+            }
+        }
+        f
+    }
+
+    /// Nodes the tool `t` presses at load `lambda`.
+    pub fn in_contact(&self, t: usize, lambda: f64, x: &[[f64; 3]]) -> Vec<bool> {
+        let tool = self.tools[t].at(lambda);
+        let delta = self.options.contact_smoothing;
+        x.iter().map(|p| tool.distance(*p).d < delta).collect()
+    }
+
+    /// The holder force on each node at positions `x` (N).
+    pub fn holder_force(&self, x: &[[f64; 3]]) -> Vec<f64> {
+        match &self.holder {
+            Some(h) => x
+                .iter()
+                .zip(&self.area)
+                .map(|(p, a)| h.pressure * a * h.weight(p[0], p[1]).0)
+                .collect(),
+            None => vec![0.0; self.area.len()],
+        }
+    }
+
+    /// The friction anchor of node `i` and tool `t` at load `lambda`.
+    fn anchor(&self, t: usize, i: usize, lambda: f64) -> [f64; 3] {
+        let mut a = self.pairs[t * self.nodes() + i].anchor;
+        a[2] += self.tools[t].travel(self.lambda_start, lambda);
+        a
+    }
+
+    /// The holder part of the friction normal force on the die (the holder face's friction),
+    /// with its gradient.
+    fn holder_normal(&self, t: usize, i: usize, p: [f64; 3]) -> (f64, [f64; 3]) {
+        match &self.holder {
+            Some(h) if !self.tools[t].tool.is_punch() => {
+                let (w, g) = h.weight(p[0], p[1]);
+                let pa = h.pressure * self.area[i];
+                (pa * w, [pa * g[0], pa * g[1], 0.0])
+            }
+            _ => (0.0, [0.0; 3]),
+        }
+    }
+
+    /// Node `i`'s terms with tool `t` at `p`: penalty and friction.
+    fn node_tool(&self, i: usize, t: usize, lambda: f64, p: [f64; 3], tangent: bool) -> Terms {
+        let tool = self.tools[t].at(lambda);
+        let k = self.penalty[i];
+        let delta = self.options.contact_smoothing;
+        let dist = tool.distance(p);
+        let (held, held_gradient) = self.holder_normal(t, i, p);
+        let (pressed, stiffness, _) = normal::law(k, delta, dist.d);
+        let lagged = self.options.lagged;
+        let pair = &self.pairs[t * self.nodes() + i];
+        let normal_force = if lagged {
+            pair.frozen_force
+        } else {
+            pressed + held
+        };
+        let mu = self.options.friction;
+        let rubbing = mu > 0.0 && normal_force > 0.0;
+        let mut out = Terms::default();
+        if dist.d >= delta && !rubbing {
+            return out;
+        }
+        let h = (tangent && (pressed > 0.0 || (rubbing && !lagged)))
+            .then(|| tool.curvature(p, self.reach));
+        if let Some(pen) = normal::penalty(k, delta, dist.d, dist.n, h.as_ref()) {
+            out.largest = pen.force;
+            out.energy += pen.energy;
+            out.energy_frozen += pen.energy;
+            out.residual = pen.residual;
+            out.block.spd = pen.spd;
+            out.block.rest = pen.rest;
+        }
+        if rubbing {
+            let mut gradient = held_gradient;
+            for m in 0..3 {
+                gradient[m] -= stiffness * dist.n[m];
+            }
+            let a = self.anchor(t, i, lambda);
+            let rel = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+            let c = friction::Contact {
+                mu,
+                eps: self.options.slip_regularisation,
+                normal_force,
+                normal_force_gradient: if lagged { [0.0; 3] } else { gradient },
+                n: if lagged { pair.frozen_normal } else { dist.n },
+                rel,
+            };
+            const FLAT: [[f64; 3]; 3] = [[0.0; 3]; 3];
+            let curvature = if lagged {
+                tangent.then_some(&FLAT)
+            } else {
+                h.as_ref()
+            };
+            let f = friction::friction(&c, curvature);
+            out.largest = out.largest.max(f.magnitude);
+            out.energy += f.energy;
+            out.energy_frozen += friction::potential(
+                mu,
+                c.eps,
+                pair.frozen_force,
+                pair.frozen_normal,
+                rel,
+            );
+            for m in 0..3 {
+                out.residual[m] += f.residual[m];
+            }
+            add_into(&mut out.block.spd, &f.spd);
+            add_into(&mut out.block.rest, &f.rest);
+        }
+        out
+    }
+
+    /// Takes friction's normal force and normal and the holder's weights at `x`.
+    fn set_lag(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        let n = x.len();
+        for t in 0..self.tools.len() {
+            for k in 0..self.active[t].len() {
+                let i = self.active[t][k] as usize;
+                let (f, normal) = self.friction_normal(t, i, lambda, x[i]);
+                let pair = &mut self.pairs[t * n + i];
+                pair.frozen_force = f;
+                pair.frozen_normal = normal;
+            }
+        }
+        if let Some(h) = self.holder {
+            for &i in &self.held {
+                let i = i as usize;
+                self.frozen_weight[i] = h.weight(x[i][0], x[i][1]).0;
+            }
+        }
+    }
+
+    /// The friction normal force and normal of node `i` against tool `t` at `p`.
+    fn friction_normal(&self, t: usize, i: usize, lambda: f64, p: [f64; 3]) -> (f64, [f64; 3]) {
+        let dist = self.tools[t].at(lambda).distance(p);
+        let held = self.holder_normal(t, i, p).0;
+        let pressed = normal::law(self.penalty[i], self.options.contact_smoothing, dist.d).0;
+        (pressed + held, dist.n)
+    }
+}
+
+/// What one node–tool pair adds.
+#[derive(Clone, Copy, Debug, Default)]
+struct Terms {
+    residual: [f64; 3],
+    energy: f64,
+    energy_frozen: f64,
+    largest: f64,
+    block: NodeBlock,
+}
+
+impl NodalTerms for Contact {
+    fn begin_step(&mut self, lambda_start: f64, lambda: f64, x: &[[f64; 3]]) {
+        let n = x.len();
+        self.lambda_start = lambda_start;
+        for t in 0..self.tools.len() {
+            let tool = self.tools[t].at(lambda_start);
+            let travel = self.tools[t].travel(lambda_start, lambda).abs();
+            let mut active = Vec::new();
+            for i in 0..n {
+                let d = tool.distance(x[i]).d;
+                let pair = &mut self.pairs[t * n + i];
+                pair.d_start = d;
+                for m in 0..3 {
+                    pair.anchor[m] = x[i][m] - pair.carried[m];
+                }
+                // A node farther than the reach plus the tool's travel cannot touch it this step.
+                if d < self.reach + travel {
+                    active.push(i as u32);
+                }
+            }
+            self.active[t] = active;
+        }
+        if let Some(h) = &self.holder {
+            self.held = (0..n as u32)
+                .filter(|&i| h.may_hold(x[i as usize][0], x[i as usize][1]))
+                .collect();
+        }
+        if self.options.lagged {
+            self.set_lag(lambda_start, x);
+        }
+    }
+
+    fn project(&self, lambda: f64, x: &mut [[f64; 3]]) {
+        let n = x.len();
+        let delta = self.options.contact_smoothing;
+        for t in 0..self.tools.len() {
+            let tool = self.tools[t].at(lambda);
+            for &i in &self.active[t] {
+                let i = i as usize;
+                let d_start = self.pairs[t * n + i].d_start;
+                let dist = tool.distance(x[i]);
+                // A node the tool pressed keeps its gap, and so about its pressure; one that was
+                // free is kept out of the tool's reach.
+                let goal = if d_start < delta {
+                    d_start
+                } else if dist.d < delta {
+                    delta
+                } else {
+                    continue;
+                };
+                for m in 0..3 {
+                    x[i][m] += (goal - dist.d) * dist.n[m];
+                }
+            }
+        }
+    }
+
+    fn project_trial(&self, lambda: f64, x_base: &[[f64; 3]], x: &mut [[f64; 3]]) {
+        let delta = self.options.contact_smoothing;
+        for t in 0..self.tools.len() {
+            let tool = self.tools[t].at(lambda);
+            for &i in &self.active[t] {
+                let i = i as usize;
+                let dist = tool.distance(x[i]);
+                if dist.d < 0.0 && tool.distance(x_base[i]).d >= delta {
+                    for m in 0..3 {
+                        x[i][m] -= dist.d * dist.n[m];
+                    }
+                }
+            }
+        }
+    }
+
+    fn freeze(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        if !self.options.lagged {
+            self.set_lag(lambda, x);
+        }
+    }
+
+    fn relag(&mut self, lambda: f64, x: &[[f64; 3]]) -> bool {
+        if self.options.lagged {
+            self.set_lag(lambda, x);
+        }
+        self.options.lagged
+    }
+
+    fn add(
+        &self,
+        lambda: f64,
+        x: &[[f64; 3]],
+        r: &mut [f64],
+        mut blocks: Option<&mut [NodeBlock]>,
+    ) -> Option<NodalSums> {
+        let mut largest = vec![0.0f64; x.len()];
+        let (mut energy, mut energy_frozen) = (0.0, 0.0);
+        let tangent = blocks.is_some();
+        for t in 0..self.tools.len() {
+            for &i in &self.active[t] {
+                let i = i as usize;
+                let terms = self.node_tool(i, t, lambda, x[i], tangent);
+                for m in 0..3 {
+                    r[3 * i + m] += terms.residual[m];
+                }
+                largest[i] = largest[i].max(terms.largest);
+                energy += terms.energy;
+                energy_frozen += terms.energy_frozen;
+                if let Some(b) = blocks.as_deref_mut() {
+                    add_into(&mut b[i].spd, &terms.block.spd);
+                    add_into(&mut b[i].rest, &terms.block.rest);
+                }
+            }
+        }
+        if let Some(h) = &self.holder {
+            for &i in &self.held {
+                let i = i as usize;
+                let (mut w, mut g) = h.weight(x[i][0], x[i][1]);
+                if self.options.lagged {
+                    (w, g) = (self.frozen_weight[i], [0.0; 2]);
+                }
+                let pa = h.pressure * self.area[i];
+                r[3 * i + 2] += pa * w;
+                largest[i] = largest[i].max(pa * w);
+                energy += pa * w * x[i][2];
+                energy_frozen += pa * self.frozen_weight[i] * x[i][2];
+                if let Some(b) = blocks.as_deref_mut() {
+                    b[i].rest[2][0] += pa * g[0];
+                    b[i].rest[2][1] += pa * g[1];
+                }
+            }
+        }
+        let scale = largest.iter().map(|f| f * f).sum::<f64>().sqrt();
+        scale.is_finite().then_some(NodalSums {
+            scale,
+            energy,
+            energy_frozen,
+        })
+    }
+
+    fn end_step(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        // Carry the slip over: a node that slid keeps its anchor 10ε behind it along the slip, so
+        // continued sliding starts the next step at 99.5 % of μN instead of climbing the
+        // regularisation again (the anchor of elasto-plastic friction).
+        let n = x.len();
+        let eps = self.options.slip_regularisation;
+        for t in 0..self.tools.len() {
+            for i in 0..n {
+                let (normal_force, normal) = self.friction_normal(t, i, lambda, x[i]);
+                let carried = if normal_force > 0.0 {
+                    let a = self.anchor(t, i, lambda);
+                    let rel = [x[i][0] - a[0], x[i][1] - a[1], x[i][2] - a[2]];
+                    let s = friction::tangential(normal, rel);
+                    let len = dot(s, s).sqrt();
+                    let keep = (10.0 * eps).min(len);
+                    if len > 0.0 { s.map(|v| v * keep / len) } else { [0.0; 3] }
+                } else {
+                    [0.0; 3]
+                };
+                self.pairs[t * n + i].carried = carried;
+            }
+        }
+        if !self.tools.is_empty() {
+            let f = self.tool_force(0, lambda, x)[2];
+            self.punch_history.push((lambda, f));
+        }
+    }
+}

@@ -1,0 +1,62 @@
+//! Why a drawing has no result, or only part of one.
+
+use crate::core::solver::{BadElement, Failure};
+
+/// What holds the blank in its plane is missing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unrestrained {
+    /// No friction between the fabric and the tools.
+    NoFriction,
+    /// No blank-holder pressure.
+    NoHolder,
+}
+
+/// Why a drawing stopped short or never started.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DrawingFailure {
+    /// The model has no unique answer: the paper's fabric has no shear and no bending
+    /// stiffness, so with nothing to pull against its yarns stay slack and any drape of the
+    /// blank is an equilibrium.
+    NoUniqueShape(Unrestrained),
+    /// An element of the initial mesh is unusable.
+    BadElement(BadElement),
+    /// The solver stopped short of the full stroke.
+    Solver(Failure),
+}
+
+impl DrawingFailure {
+    /// Whether the run was stopped on request (not a failure of the model or the solver).
+    pub fn is_stop(&self) -> bool {
+        matches!(self, DrawingFailure::Solver(Failure::Stopped { .. }))
+    }
+}
+
+impl std::fmt::Display for DrawingFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DrawingFailure::NoUniqueShape(why) => {
+                let cause = match why {
+                    Unrestrained::NoFriction => {
+                        "there is no friction (process.friction = 0), so nothing holds the \
+                         flange back"
+                    }
+                    Unrestrained::NoHolder => {
+                        "there is no holder pressure (process.holder_pressure = 0), so the \
+                         flange is pressed by nothing and friction has nothing to act on"
+                    }
+                };
+                write!(
+                    f,
+                    "no unique shape: {cause}. The paper's fabric has no shear and no bending \
+                     stiffness, so the yarns stay slack and any drape of the blank is an \
+                     equilibrium: shear and tension are not determined. Set \
+                     process.friction > 0 and process.holder_pressure > 0"
+                )
+            }
+            DrawingFailure::BadElement(e) => write!(f, "{e}"),
+            DrawingFailure::Solver(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for DrawingFailure {}

@@ -1,0 +1,161 @@
+//! What a drawing found on the solved part of the blank, and whether it can be trusted.
+
+use super::failure::DrawingFailure;
+use crate::core::mesh::Mesh;
+use crate::core::solver::SolveStats;
+
+/// The largest penetration of a node into a tool a sound result may have, as a fraction of the
+/// element size.
+pub const PENETRATION_LIMIT: f64 = 0.05;
+
+/// The largest share of the punch's work that forces left out of balance may have done in a
+/// sound result.
+pub const UNBALANCED_WORK_LIMIT: f64 = 0.01;
+
+/// Why a converged result cannot be trusted.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Unsound {
+    /// A node sank into a tool by more than [`PENETRATION_LIMIT`] of the element size.
+    Penetration { mm: f64, limit_mm: f64 },
+    /// Forces out of balance did more than [`UNBALANCED_WORK_LIMIT`] of the punch's work.
+    Unbalanced { share: f64, limit: f64 },
+}
+
+impl std::fmt::Display for Unsound {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Unsound::Penetration { mm, limit_mm } => write!(
+                f,
+                "the fabric sank {mm:.3} mm into a tool, more than {:.0} % of the element \
+                 size ({limit_mm:.3} mm): raise numerics.penalty_factor",
+                100.0 * PENETRATION_LIMIT
+            ),
+            Unsound::Unbalanced { share, limit } => write!(
+                f,
+                "forces out of balance did {:.1} % of the punch's work (at most {:.0} % is \
+                 sound)",
+                100.0 * share,
+                100.0 * limit
+            ),
+        }
+    }
+}
+
+/// The solved part of the blank and what was found on it.
+#[derive(Clone, Debug)]
+pub struct DrawingResult {
+    pub converged: bool,
+    /// Why the run stopped short, if it did.
+    pub failure: Option<DrawingFailure>,
+    /// Whether the mesh is a quarter (x ≥ 0, y ≥ 0) to be mirrored for pictures.
+    pub quarter: bool,
+    pub mesh: Mesh,
+    /// Target element size, mm.
+    pub element_size_mm: f64,
+    /// Final nodal positions, mm.
+    pub positions: Vec<[f64; 3]>,
+    /// Shear angle of each element, degrees (signed).
+    pub shear_deg: Vec<f64>,
+    /// Mean warp and weft tensions of each element, N per yarn.
+    pub t11_n: Vec<f64>,
+    pub t22_n: Vec<f64>,
+    /// Largest yarn tension of each element, N.
+    pub tension_max_n: Vec<f64>,
+    /// Contact status of each node: 0 free, 1 punch, 2 die, 3 die and holder.
+    pub contact: Vec<u8>,
+    /// Punch stroke reached, mm.
+    pub stroke_reached_mm: f64,
+    /// Punch force on the whole blank, N, and its history against the stroke (mm, N).
+    pub punch_force_n: f64,
+    pub force_history: Vec<(f64, f64)>,
+    /// Largest penetration of a node into a tool, mm.
+    pub penetration_mm: f64,
+    /// Largest draw-in of the blank's edge (inward plan displacement), mm.
+    pub draw_in_mm: f64,
+    /// Free dofs of the solved model.
+    pub dofs: usize,
+    pub stats: SolveStats,
+    /// Work of the punch on the blank (the force history integrated over the stroke), N·mm.
+    pub punch_work_nmm: f64,
+    /// Work done by forces out of balance over the punch's work: what of the punch's work is
+    /// not the paper's model. The stabilisation acts on the Newton corrections only, so a
+    /// converged state carries none of it; what is left is the residual within the tolerance.
+    pub stabilisation_work_share: f64,
+    /// Terms the scene did not need and that were not built.
+    pub left_out: Vec<String>,
+}
+
+impl DrawingResult {
+    /// The element with the largest absolute shear, and that shear (degrees).
+    pub fn max_shear(&self) -> (usize, f64) {
+        self.shear_deg
+            .iter()
+            .enumerate()
+            .map(|(e, s)| (e, s.abs()))
+            .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a })
+    }
+
+    /// Centre of element `e` in the final configuration, mm.
+    pub fn element_centre(&self, e: usize) -> [f64; 3] {
+        let mut c = [0.0; 3];
+        for &n in &self.mesh.quads[e] {
+            for m in 0..3 {
+                c[m] += 0.25 * self.positions[n][m];
+            }
+        }
+        c
+    }
+
+    /// Share of the blank's initial area whose shear exceeds `limit_deg`, %.
+    pub fn area_over_limit_pct(&self, limit_deg: f64) -> f64 {
+        let mut over = 0.0;
+        let mut total = 0.0;
+        for (e, q) in self.mesh.quads.iter().enumerate() {
+            let a = quad_area(&q.map(|n| self.mesh.nodes[n]));
+            total += a;
+            if self.shear_deg[e].abs() > limit_deg {
+                over += a;
+            }
+        }
+        if total > 0.0 {
+            100.0 * over / total
+        } else {
+            0.0
+        }
+    }
+
+    /// The largest yarn tension anywhere, N.
+    pub fn max_tension_n(&self) -> f64 {
+        self.tension_max_n.iter().fold(0.0, |a, &b| a.max(b))
+    }
+
+    /// Why this result cannot be trusted even though it converged (empty: it can).
+    pub fn unsound(&self) -> Vec<Unsound> {
+        let mut why = Vec::new();
+        let limit_mm = PENETRATION_LIMIT * self.element_size_mm;
+        if self.penetration_mm > limit_mm {
+            why.push(Unsound::Penetration {
+                mm: self.penetration_mm,
+                limit_mm,
+            });
+        }
+        if self.stabilisation_work_share > UNBALANCED_WORK_LIMIT {
+            why.push(Unsound::Unbalanced {
+                share: self.stabilisation_work_share,
+                limit: UNBALANCED_WORK_LIMIT,
+            });
+        }
+        why
+    }
+}
+
+fn quad_area(x: &[[f64; 3]; 4]) -> f64 {
+    let d1 = [x[2][0] - x[0][0], x[2][1] - x[0][1], x[2][2] - x[0][2]];
+    let d2 = [x[3][0] - x[1][0], x[3][1] - x[1][1], x[3][2] - x[1][2]];
+    let c = [
+        d1[1] * d2[2] - d1[2] * d2[1],
+        d1[2] * d2[0] - d1[0] * d2[2],
+        d1[0] * d2[1] - d1[1] * d2[0],
+    ];
+    0.5 * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt()
+}

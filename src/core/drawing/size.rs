@@ -1,0 +1,51 @@
+//! How large a drawing is before anything is allocated: elements, dofs, the Cholesky factor's
+//! entries and the memory they take, so a mesh too large for the machine can be refused first.
+
+use super::DrawingProblem;
+
+/// The size of a drawing's model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SizeEstimate {
+    /// Elements of the solved part.
+    pub elements: f64,
+    /// Degrees of freedom of the solved part (before the symmetry planes take a few out).
+    pub dofs: f64,
+    /// Entries of the sparse Cholesky factor (a 2D grid ordered by AMD fills about
+    /// `6.5 n log₂ n` for `n` dofs).
+    pub factor_entries: f64,
+    /// Peak memory of the solve, bytes.
+    pub bytes: f64,
+}
+
+/// Bytes per element: its output (force, 12×12 tangent), geometry, crimp states and slots.
+const BYTES_PER_ELEMENT: f64 = 2400.0;
+/// Bytes per node: positions, displacements, contact pairs, blocks, residual buffers.
+const BYTES_PER_NODE: f64 = 900.0;
+/// Bytes per factor entry: the value and faer's supernodal bookkeeping.
+const BYTES_PER_FACTOR_ENTRY: f64 = 12.0;
+/// The fill of AMD on a 2D grid: factor entries per `n log₂ n` dofs.
+const FILL: f64 = 6.5;
+
+impl DrawingProblem {
+    /// The size of this drawing's model, computed from its numbers alone (floating point, so
+    /// that absurd meshes do not overflow).
+    pub fn size_estimate(&self) -> SizeEstimate {
+        let quarter = self.quarter_applies();
+        let share = if quarter { 0.5 } else { 1.0 };
+        let per_axis = |b: f64| (share * b / self.element_size).round().max(1.0);
+        let (n1, n2) = (per_axis(self.blank[0]), per_axis(self.blank[1]));
+        let elements = n1 * n2;
+        let nodes = (n1 + 1.0) * (n2 + 1.0);
+        let dofs = 3.0 * nodes;
+        let factor_entries = FILL * dofs * dofs.max(2.0).log2();
+        let bytes = BYTES_PER_ELEMENT * elements
+            + BYTES_PER_NODE * nodes
+            + BYTES_PER_FACTOR_ENTRY * factor_entries;
+        SizeEstimate {
+            elements,
+            dofs,
+            factor_entries,
+            bytes,
+        }
+    }
+}

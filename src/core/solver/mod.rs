@@ -1,0 +1,159 @@
+//! The implicit solver (paper eqs 28–30): Newton's method on the equilibrium of the woven blank
+//! at each load step, the load path walked in steps that grow and cut back.
+//!
+//! - [`model`]: the elements, the dof numbering, the tangent's pattern and the current state;
+//! - [`assembly`]: one configuration into a residual, a merit and a tangent;
+//! - [`correction`]: the Newton correction (sparse Cholesky, GMRES over the non-symmetric rest);
+//! - [`line_search`]: backtracking along the correction;
+//! - [`newton`]: the iterations of one load step;
+//! - [`stepping`]: the load path: predictor, steps, cut-backs.
+//!
+//! The paper's fabric has no in-plane shear stiffness and no bending stiffness, so parts of a
+//! sheet can be mechanisms. The Newton corrections are stabilised by a pseudo-transient term:
+//! `δ · (C̄/L̄0) · cells(node)` on the diagonal of the tangent, `δ = κ ‖r‖/‖r₀‖` (κ the
+//! `stabilisation`) plus a Levenberg–Marquardt part that grows when the line search has to cut
+//! hard. It damps the corrections only: the residual is the model's own, so a converged state
+//! carries no stabilisation force and the answer does not depend on κ.
+
+mod assembly;
+mod correction;
+mod line_search;
+mod model;
+mod newton;
+mod stepping;
+mod terms;
+
+pub use model::{BadElement, Model};
+pub use newton::NewtonError;
+pub use stepping::Failure;
+pub use terms::{LinearPrescribed, NoNodalTerms, NodalSums, NodalTerms, NodeBlock, Prescribed};
+
+use assembly::Workspace;
+
+/// Solver settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolverOptions {
+    /// First load increment (fraction of the full load).
+    pub initial_step: f64,
+    /// Smallest increment before the run is declared failed.
+    pub min_step: f64,
+    /// Largest increment.
+    pub max_step: f64,
+    /// The Newton iterations a step should take: the next increment is scaled by this over
+    /// the iterations the last one took.
+    pub target_iterations: u32,
+    /// Accepted steps allowed before the run is declared failed.
+    pub max_steps: u32,
+    /// Newton iterations allowed in a step before it is cut back.
+    pub max_iterations: u32,
+    /// Force residual tolerance, relative to the load scale.
+    pub tol_force: f64,
+    /// Displacement correction tolerance, relative to the element size.
+    pub tol_displacement: f64,
+    /// Pseudo-transient stabilisation `κ` of the Newton corrections (dimensionless; 0 turns it
+    /// off).
+    pub stabilisation: f64,
+    /// Solve each correction with the nodal terms' non-symmetric part (GMRES); without it the
+    /// corrections use the symmetric part only and converge linearly where friction acts.
+    pub exact_jacobian: bool,
+    /// Solves of a step again after its lagged terms were updated (0: lag at the step's start).
+    pub max_lag_passes: u32,
+    /// Move the predicted state back onto the tools the nodes touched.
+    pub project_predictor: bool,
+    /// Put the nodes a correction throws into a tool they did not touch onto its surface.
+    pub project_trials: bool,
+    /// Assemble elements on rayon's pool (set false inside a parallel sweep if wanted).
+    pub parallel: bool,
+    /// Keep the residual history of each step (for convergence studies).
+    pub record_residuals: bool,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        SolverOptions {
+            initial_step: 0.1,
+            min_step: 1e-5,
+            max_step: 0.5,
+            target_iterations: 10,
+            max_steps: 1000,
+            max_iterations: 25,
+            tol_force: 1e-6,
+            tol_displacement: 1e-6,
+            stabilisation: 1e-4,
+            exact_jacobian: true,
+            max_lag_passes: 20,
+            project_predictor: true,
+            project_trials: true,
+            parallel: true,
+            record_residuals: false,
+        }
+    }
+}
+
+/// Counters of a run.
+#[derive(Clone, Debug, Default)]
+pub struct SolveStats {
+    pub steps: u32,
+    pub cutbacks: u32,
+    pub newton_iterations: u32,
+    /// GMRES iterations over all corrections.
+    pub krylov_iterations: u32,
+    /// Newton iterations whose line search cut the correction below half.
+    pub damped_iterations: u32,
+    /// Trial assemblies of the line searches.
+    pub line_search_trials: u32,
+    pub law_iterations: u64,
+    /// Factorizations that needed a diagonal shift (non-positive-definite tangent).
+    pub shifted_solves: u32,
+    /// A solve met a singular tangent during the run: part of the blank was a mechanism
+    /// (zero-stiffness trellising or slack yarns) held by nothing.
+    pub mechanism: bool,
+    /// Residual norms of each Newton iteration, per accepted step (if recorded).
+    pub residuals: Vec<Vec<f64>>,
+    /// Work of the forces left out of balance at each converged step (the residual within the
+    /// tolerance) along the path, N·mm: what of the punch's work is not the model's.
+    pub unbalanced_work: f64,
+    /// Load factor reached.
+    pub lambda: f64,
+}
+
+/// Drives a model along the load path.
+pub struct Solver<'a> {
+    pub model: &'a mut Model,
+    pub options: SolverOptions,
+    pub stats: SolveStats,
+    ws: Workspace,
+    /// Levenberg–Marquardt damping on top of the stabilisation (times the cells' stiffness):
+    /// grows when the line search cuts hard, decays to 0 while full corrections are accepted.
+    levenberg: f64,
+}
+
+impl<'a> Solver<'a> {
+    pub fn new(model: &'a mut Model, options: SolverOptions) -> Self {
+        let ws = Workspace::new(model, options.parallel);
+        Solver {
+            model,
+            options,
+            stats: SolveStats::default(),
+            ws,
+            levenberg: 0.0,
+        }
+    }
+
+    /// The residual over the free dofs at the current state, and its load scale (N): for
+    /// checks and benchmarks.
+    pub fn residual(&mut self, lambda: f64, terms: &dyn NodalTerms) -> (Vec<f64>, f64) {
+        let a = self.ws.assemble(self.model, lambda, terms, false);
+        (a.r, a.scale)
+    }
+
+    /// One assembly with the tangent at the current state (for benchmarks).
+    pub fn assemble_tangent(&mut self, lambda: f64, terms: &dyn NodalTerms) {
+        self.ws.assemble(self.model, lambda, terms, true);
+    }
+
+    /// Factorizes the last assembled tangent and solves for `rhs` in place (for benchmarks).
+    pub fn factor_solve_last_tangent(&mut self, rhs: &mut [f64]) -> bool {
+        self.model.linear.factor_solve(&self.ws.values, rhs).is_ok()
+    }
+}

@@ -1,0 +1,287 @@
+//! The finite-element model of a woven blank: its elements made of woven cells, the dof
+//! numbering with the prescribed dofs taken out, the tangent's sparsity pattern (built and
+//! ordered once) and the current state (displacements, crimp of every cell).
+
+use rayon::prelude::*;
+
+use crate::core::element::{self, ElementGeometry, ElementOutput, GAUSS, GeometryError};
+use crate::core::law::{CellLaw, CrimpState};
+use crate::core::linear::{SparseCholesky, UpperPattern};
+use crate::core::mesh::Mesh;
+
+/// An element of the initial mesh cannot be built.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BadElement {
+    pub element: usize,
+    pub cause: GeometryError,
+}
+
+impl std::fmt::Display for BadElement {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let why = match self.cause {
+            GeometryError::Degenerate => "it is degenerate or inverted",
+            GeometryError::YarnOutOfPlane => "a yarn direction is normal to it",
+        };
+        write!(f, "element {} of the initial mesh is unusable: {why}", self.element)
+    }
+}
+
+/// The model and its current state.
+pub struct Model {
+    pub mesh: Mesh,
+    pub law: CellLaw,
+    pub geometry: Vec<ElementGeometry>,
+    /// Displacements, `[3·node + m]`, mm.
+    pub u: Vec<f64>,
+    /// Crimp state of each Gauss point's cells.
+    pub crimp: Vec<[CrimpState; GAUSS]>,
+    /// Equation number of each dof (`usize::MAX` when prescribed).
+    pub(super) eq: Vec<usize>,
+    prescribed_dofs: Vec<usize>,
+    /// Slots of each element's upper-triangle pairs (`i ≤ j` over 12 dofs), `u32::MAX` if none.
+    pub(super) element_slots: Vec<[u32; 78]>,
+    /// Slots of each node's 3×3 block, row-major, `u32::MAX` where a dof is prescribed. Both
+    /// halves of the block name the same stored entry.
+    pub(super) node_slots: Vec<[u32; 9]>,
+    pub(super) linear: SparseCholesky,
+    /// The cells' tensile stiffness carried by each node, `C̄/L̄0 · cells`, N/mm: the scale of the
+    /// damping of the Newton corrections.
+    pub(super) cell_stiffness: Vec<f64>,
+    pub(super) outputs: Vec<ElementOutput>,
+    /// Reference length for displacement tolerances: the mean element size, mm.
+    pub element_size: f64,
+}
+
+/// Index of the pair `(i, j)`, `i ≤ j < 12`, in the 78 upper-triangle pairs.
+pub(super) fn pair_index(i: usize, j: usize) -> usize {
+    i * 12 - i * (i + 1) / 2 + j
+}
+
+/// The equation number of every dof, prescribed ones `usize::MAX`, and how many there are.
+fn number_equations(ndof: usize, prescribed_dofs: &[usize]) -> (Vec<usize>, usize) {
+    let mut eq = vec![0usize; ndof];
+    for &d in prescribed_dofs {
+        eq[d] = usize::MAX;
+    }
+    let mut n = 0;
+    for e in eq.iter_mut() {
+        if *e != usize::MAX {
+            *e = n;
+            n += 1;
+        }
+    }
+    (eq, n)
+}
+
+impl Model {
+    /// Builds the model: element geometry, the dof numbering with `prescribed_dofs` removed, the
+    /// sparsity pattern and its symbolic factorization.
+    pub fn new(mesh: Mesh, law: CellLaw, prescribed_dofs: &[usize]) -> Result<Model, BadElement> {
+        let cell_lengths = law.p.l0[0] * law.p.l0[1];
+        let geometry = mesh
+            .quads
+            .iter()
+            .enumerate()
+            .map(|(e, q)| {
+                let x0 = q.map(|n| mesh.nodes[n]);
+                ElementGeometry::new(&x0, mesh.yarns, cell_lengths)
+                    .map_err(|cause| BadElement { element: e, cause })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let (eq, n) = number_equations(mesh.dofs(), prescribed_dofs);
+        let edof = |q: &[usize; 4], i: usize| 3 * q[i / 3] + i % 3;
+        let couplings = mesh.quads.iter().flat_map(|q| {
+            let eq = &eq;
+            (0..12).flat_map(move |i| {
+                (i..12).filter_map(move |j| {
+                    let (a, b) = (eq[edof(q, i)], eq[edof(q, j)]);
+                    (a != usize::MAX && b != usize::MAX).then_some((a, b))
+                })
+            })
+        });
+        let linear = SparseCholesky::new(UpperPattern::from_couplings(n, couplings));
+        let slot = |a: usize, b: usize| -> u32 {
+            if a == usize::MAX || b == usize::MAX {
+                u32::MAX
+            } else {
+                linear.slot(a, b).expect("pair in pattern") as u32
+            }
+        };
+        let element_slots = mesh
+            .quads
+            .iter()
+            .map(|q| {
+                let mut s = [u32::MAX; 78];
+                for i in 0..12 {
+                    for j in i..12 {
+                        s[pair_index(i, j)] = slot(eq[edof(q, i)], eq[edof(q, j)]);
+                    }
+                }
+                s
+            })
+            .collect();
+        let node_slots = (0..mesh.nodes.len())
+            .map(|nd| {
+                let mut s = [u32::MAX; 9];
+                for a in 0..3 {
+                    for b in 0..3 {
+                        s[3 * a + b] = slot(eq[3 * nd + a], eq[3 * nd + b]);
+                    }
+                }
+                s
+            })
+            .collect();
+        let c_mean = 0.5 * (law.p.c[0] + law.p.c[1]);
+        let l_mean = 0.5 * (law.p.l0[0] + law.p.l0[1]);
+        let mut cell_stiffness = vec![0.0; mesh.nodes.len()];
+        for (q, g) in mesh.quads.iter().zip(&geometry) {
+            for &nd in q {
+                cell_stiffness[nd] += 0.25 * g.cell_count() * c_mean / l_mean;
+            }
+        }
+        let element_size =
+            (geometry.iter().map(|g| g.area0).sum::<f64>() / geometry.len().max(1) as f64).sqrt();
+        let ne = mesh.quads.len();
+        Ok(Model {
+            u: vec![0.0; mesh.dofs()],
+            crimp: vec![[law.initial_state(); GAUSS]; ne],
+            eq,
+            prescribed_dofs: prescribed_dofs.to_vec(),
+            element_slots,
+            node_slots,
+            linear,
+            cell_stiffness,
+            outputs: vec![ElementOutput::default(); ne],
+            element_size,
+            geometry,
+            mesh,
+            law,
+        })
+    }
+
+    /// The prescribed dofs (where reactions act).
+    pub fn prescribed_dofs(&self) -> &[usize] {
+        &self.prescribed_dofs
+    }
+
+    /// Free (solved-for) dofs.
+    pub fn free_dofs(&self) -> usize {
+        self.linear.n()
+    }
+
+    /// Non-zeros of the tangent's stored triangle and of its Cholesky factor.
+    pub fn sparsity(&self) -> (usize, usize) {
+        (self.linear.nnz(), self.linear.factor_nnz())
+    }
+
+    /// Current nodal positions, mm.
+    pub fn positions(&self) -> Vec<[f64; 3]> {
+        let mut x = vec![[0.0; 3]; self.mesh.nodes.len()];
+        self.positions_into(&mut x);
+        x
+    }
+
+    pub(super) fn positions_into(&self, x: &mut [[f64; 3]]) {
+        for (i, (xi, x0)) in x.iter_mut().zip(&self.mesh.nodes).enumerate() {
+            for m in 0..3 {
+                xi[m] = x0[m] + self.u[3 * i + m];
+            }
+        }
+    }
+
+    /// Sets the displacements from nodal positions on the free dofs only.
+    pub(super) fn set_free_positions(&mut self, x: &[[f64; 3]]) {
+        for (d, &q) in self.eq.iter().enumerate() {
+            if q != usize::MAX {
+                self.u[d] = x[d / 3][d % 3] - self.mesh.nodes[d / 3][d % 3];
+            }
+        }
+    }
+
+    fn element_positions(&self, e: usize, x: &[[f64; 3]]) -> [[f64; 3]; 4] {
+        self.mesh.quads[e].map(|n| x[n])
+    }
+
+    /// Element outputs (forces, tensions) of the last evaluation.
+    pub fn element_outputs(&self) -> &[ElementOutput] {
+        &self.outputs
+    }
+
+    /// Evaluates every element at the current displacements (tensions, forces, optionally
+    /// tangents), in parallel when `parallel`. Returns the law's Newton iterations.
+    pub fn evaluate_elements(&mut self, tangent: bool, parallel: bool) -> u64 {
+        let x = self.positions();
+        self.evaluate_elements_at(&x, tangent, parallel)
+    }
+
+    /// [`Model::evaluate_elements`] at given nodal positions (those of the current
+    /// displacements), so a caller that needs them too computes them once.
+    pub(super) fn evaluate_elements_at(
+        &mut self,
+        x: &[[f64; 3]],
+        tangent: bool,
+        parallel: bool,
+    ) -> u64 {
+        let quads = &self.mesh.quads;
+        let geometry = &self.geometry;
+        let law = &self.law;
+        let work = |(e, (out, crimp)): (usize, (&mut ElementOutput, &mut [CrimpState; GAUSS]))| {
+            let xe = quads[e].map(|n| x[n]);
+            element::evaluate(&geometry[e], law, &xe, crimp, tangent, out);
+            out.law_iterations as u64
+        };
+        if parallel {
+            self.outputs
+                .par_iter_mut()
+                .zip(self.crimp.par_iter_mut())
+                .enumerate()
+                .with_min_len(64)
+                .map(work)
+                .sum()
+        } else {
+            self.outputs
+                .iter_mut()
+                .zip(self.crimp.iter_mut())
+                .enumerate()
+                .map(work)
+                .sum()
+        }
+    }
+
+    /// The internal force vector of all dofs (reactions at prescribed dofs), from the last
+    /// element evaluation.
+    pub fn internal_force(&self) -> Vec<f64> {
+        let mut f = vec![0.0; self.u.len()];
+        self.add_internal_force(&mut f);
+        f
+    }
+
+    pub(super) fn add_internal_force(&self, f: &mut [f64]) {
+        for (q, out) in self.mesh.quads.iter().zip(&self.outputs) {
+            for i in 0..12 {
+                f[3 * q[i / 3] + i % 3] += out.f[i];
+            }
+        }
+    }
+
+    /// Stored energy of the fabric at the last evaluation, N·mm.
+    pub fn stored_energy(&self) -> f64 {
+        self.outputs.iter().map(|o| o.energy).sum()
+    }
+
+    /// Shear angle of each element, degrees.
+    pub fn shear_angles_deg(&self) -> Vec<f64> {
+        let x = self.positions();
+        (0..self.mesh.quads.len())
+            .map(|e| element::shear_angle_deg(&self.geometry[e], &self.element_positions(e, &x)))
+            .collect()
+    }
+
+    /// Largest yarn tension of each element (over its Gauss points and yarns), N.
+    pub fn max_tension_n(&self) -> Vec<f64> {
+        self.outputs
+            .iter()
+            .map(|o| o.tension.iter().flatten().fold(0.0f64, |a, &b| a.max(b)))
+            .collect()
+    }
+}

@@ -1,0 +1,226 @@
+//! Newton's method at one load factor: assemble, test, correct, search along the correction.
+
+use super::Solver;
+use super::assembly::Assembly;
+use super::correction::{self, Correction, CorrectionError};
+use super::line_search::{self, Base};
+use super::terms::NodalTerms;
+
+/// Why the Newton iterations of a step stopped without converging.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NewtonError {
+    /// The configuration is inadmissible or its residual is not finite.
+    Inadmissible,
+    /// The tangent could not be factorized, even shifted.
+    NotFactorizable,
+    /// The linear solve gave a non-finite correction.
+    NonFiniteCorrection,
+    /// No length along the correction lowered the merit or the residual.
+    LineSearch { residual_n: f64 },
+    /// The residual was still above the tolerance after the allowed iterations.
+    NoConvergence { iterations: u32, residual_n: f64 },
+}
+
+impl std::fmt::Display for NewtonError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NewtonError::Inadmissible => write!(f, "an inadmissible or non-finite state"),
+            NewtonError::NotFactorizable => write!(f, "the tangent could not be factorized"),
+            NewtonError::NonFiniteCorrection => {
+                write!(f, "the linear solve gave a non-finite correction")
+            }
+            NewtonError::LineSearch { residual_n } => write!(
+                f,
+                "the line search found no acceptable point (residual {residual_n:.3e} N)"
+            ),
+            NewtonError::NoConvergence {
+                iterations,
+                residual_n,
+            } => write!(
+                f,
+                "no convergence in {iterations} Newton iterations (residual {residual_n:.3e} N)"
+            ),
+        }
+    }
+}
+
+impl From<CorrectionError> for NewtonError {
+    fn from(e: CorrectionError) -> Self {
+        match e {
+            CorrectionError::NotFactorizable => NewtonError::NotFactorizable,
+            CorrectionError::NonFinite => NewtonError::NonFiniteCorrection,
+        }
+    }
+}
+
+fn norm2(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn norm_inf(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+/// What one step's iterations carry from one to the next.
+struct Progress {
+    /// The residual norm of the first iteration (the scale of the pseudo-transient damping).
+    first_residual: Option<f64>,
+    /// The length of the last correction taken, mm.
+    last_du: f64,
+    /// The last correction was taken in full.
+    last_full: bool,
+}
+
+impl Solver<'_> {
+    /// Newton iterations at load `lambda` from the current displacements (the step started
+    /// from `u_step_start`); `history` receives the residual norm of each iteration. Returns the
+    /// iterations taken.
+    pub(super) fn newton(
+        &mut self,
+        lambda: f64,
+        terms: &mut dyn NodalTerms,
+        u_step_start: &[f64],
+        history: &mut Vec<f64>,
+    ) -> Result<u32, NewtonError> {
+        let mut carried = None;
+        let mut progress = Progress {
+            first_residual: None,
+            last_du: f64::INFINITY,
+            last_full: false,
+        };
+        for it in 0..=self.options.max_iterations {
+            let a = match carried.take() {
+                Some(a) => a,
+                None => self.ws.assemble(self.model, lambda, &*terms, true),
+            };
+            if !a.admissible {
+                return Err(NewtonError::Inadmissible);
+            }
+            let rn = norm2(&a.r);
+            history.push(rn);
+            let tolerance = self.residual_tolerance(&a);
+            if rn <= tolerance && self.small_correction(&progress, u_step_start) {
+                return Ok(it);
+            }
+            if it == self.options.max_iterations {
+                break;
+            }
+            let c = self.correction(&a, rn, &mut progress)?;
+            let x = self.model.positions();
+            terms.freeze(lambda, &x);
+            let base = Base {
+                merit: a.energy,
+                residual: rn,
+                slope: c.slope,
+                tolerance,
+            };
+            let (alpha, next) = self.search(lambda, &*terms, &x, &c, &base, progress.last_full)?;
+            carried = next;
+            self.adapt_damping(alpha);
+            progress.last_full = alpha >= 0.999;
+            progress.last_du = alpha * norm_inf(&c.du);
+        }
+        Err(NewtonError::NoConvergence {
+            iterations: self.options.max_iterations,
+            residual_n: history.last().copied().unwrap_or(f64::NAN),
+        })
+    }
+
+    /// The residual that ends the iterations, N: relative to the load scale, with a floor of a
+    /// yarn force of 1e-7 C (a yarn strain of 1e-7) for problems whose forces are all nearly
+    /// zero (a free, slack blank on the law's slack/taut kink).
+    fn residual_tolerance(&self, a: &Assembly) -> f64 {
+        let c = 0.5 * (self.model.law.p.c[0] + self.model.law.p.c[1]);
+        self.options.tol_force * a.scale + 1e-7 * c
+    }
+
+    /// The last correction is small: against the element size, or against what the step has
+    /// moved so far.
+    fn small_correction(&self, progress: &Progress, u_step_start: &[f64]) -> bool {
+        let step_move = self
+            .model
+            .u
+            .iter()
+            .zip(u_step_start)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let tol_u = self.options.tol_displacement * self.model.element_size;
+        progress.last_du <= tol_u.max(1e-4 * step_move)
+    }
+
+    /// The Newton correction from the assembled tangent, damped by the pseudo-transient
+    /// stabilisation (fading with the residual) and the Levenberg–Marquardt part.
+    fn correction(
+        &mut self,
+        a: &Assembly,
+        rn: f64,
+        progress: &mut Progress,
+    ) -> Result<Correction, NewtonError> {
+        let r0 = *progress.first_residual.get_or_insert(rn);
+        let damping = self.options.stabilisation * (rn / r0).min(1.0) + self.levenberg;
+        self.ws.add_damping(self.model, damping);
+        if !self.options.exact_jacobian {
+            self.ws.rest.clear();
+        }
+        // The Krylov solve's forcing, tight enough to keep Newton quadratic.
+        let forcing = (rn / a.scale.max(f64::MIN_POSITIVE)).clamp(1e-10, 1e-2);
+        let c = correction::solve(self.model, &self.ws, &a.r, forcing)?;
+        self.stats.krylov_iterations += c.krylov_iterations;
+        if c.shift > 0.0 {
+            // Part of the blank is a mechanism (held by nothing).
+            self.stats.shifted_solves += 1;
+            self.stats.mechanism = true;
+        }
+        self.stats.newton_iterations += 1;
+        Ok(c)
+    }
+
+    /// The line search along `c` from the current state (positions `x`); returns the length
+    /// taken and the accepted trial's assembly when it holds the tangent there.
+    fn search(
+        &mut self,
+        lambda: f64,
+        terms: &dyn NodalTerms,
+        x: &[[f64; 3]],
+        c: &Correction,
+        base: &Base,
+        speculate: bool,
+    ) -> Result<(f64, Option<Assembly>), NewtonError> {
+        let u_base = self.model.u.clone();
+        let project = self.options.project_trials;
+        let (model, ws) = (&mut *self.model, &mut self.ws);
+        let accepted = line_search::backtrack(base, speculate, |alpha, tangent| {
+            for (d, &q) in model.eq.iter().enumerate() {
+                if q != usize::MAX {
+                    model.u[d] = u_base[d] + alpha * c.du[q];
+                }
+            }
+            if project {
+                let mut trial = model.positions();
+                terms.project_trial(lambda, x, &mut trial);
+                model.set_free_positions(&trial);
+            }
+            ws.assemble(model, lambda, terms, tangent)
+        })
+        .ok_or(NewtonError::LineSearch {
+            residual_n: base.residual,
+        })?;
+        self.stats.line_search_trials += accepted.trials;
+        if accepted.alpha < 0.5 {
+            self.stats.damped_iterations += 1;
+        }
+        Ok((accepted.alpha, accepted.carried))
+    }
+
+    /// More Levenberg–Marquardt damping after a hard cut, less (down to none) after full steps.
+    fn adapt_damping(&mut self, alpha: f64) {
+        if alpha >= 0.999 {
+            self.levenberg = if self.levenberg < 1e-6 {
+                0.0
+            } else {
+                0.1 * self.levenberg
+            };
+        } else if alpha < 0.1 {
+            self.levenberg = (10.0 * self.levenberg).clamp(1e-4, 1e2);
+        }
+    }
+}

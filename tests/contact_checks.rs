@@ -1,0 +1,168 @@
+#![allow(clippy::needless_range_loop)]
+//! The contact terms (normal penalty, friction, blank holder) against finite differences: their
+//! forces are the gradient of the merit the line search uses (at the point where it is
+//! frozen), and their node blocks (`spd + rest`) are the derivative of the forces, in stick and
+//! in slip, on flat and curved faces of the punch and the die, and in the holder's band.
+//!
+//! ```text
+//!        punch (hemisphere R 30, moving down)
+//!          ╭───╮   a: pole, pressed        b: flank, pressed and sliding
+//!   ───────╯   ╰───────  die face z = 0     c: flange under the holder, sliding
+//!         ╲     ╱        entry radius rm    d: on the entry radius, sliding
+//!                                           e: in the holder's band   f: hovering in the gap
+//! ```
+
+use wovenform::core::contact::{Contact, ContactOptions, Holder, ToolMotion};
+use wovenform::core::solver::{NodalTerms, NodeBlock};
+use wovenform::core::tools::Tool;
+
+const K: f64 = 2.0e4; // penalty, N/mm
+
+struct Case {
+    name: &'static str,
+    /// Position at the step's start and now (mm).
+    start: [f64; 3],
+    now: [f64; 3],
+}
+
+fn setup(cases: &[Case], mu: f64) -> (Contact, Vec<[f64; 3]>, f64) {
+    let radius = 30.0;
+    let punch = Tool::EllipsoidPunch {
+        axes: [radius; 3],
+        tip: 0.0,
+    };
+    let die = Tool::elliptic_die([radius, radius], 1.5, 5.0);
+    let tools = vec![
+        ToolMotion {
+            tool: punch,
+            tip_start: 0.0,
+            stroke: 10.0,
+        },
+        ToolMotion {
+            tool: die,
+            tip_start: 0.0,
+            stroke: 0.0,
+        },
+    ];
+    let holder = Holder {
+        pressure: 1.0,
+        die,
+        band: 2.5,
+    };
+    let n = cases.len();
+    let mut contact = Contact::new(
+        tools,
+        Some(holder),
+        ContactOptions {
+            friction: mu,
+            slip_regularisation: 0.025,
+            penalty_factor: 1.0,
+            contact_smoothing: 0.025,
+        },
+        vec![6.25; n],
+        &vec![K; n],
+        1.0,
+        5.0,
+    );
+    let start: Vec<[f64; 3]> = cases.iter().map(|c| c.start).collect();
+    let lambda = 0.3;
+    contact.begin_step(0.25, lambda, &start);
+    let now: Vec<[f64; 3]> = cases.iter().map(|c| c.now).collect();
+    (contact, now, lambda)
+}
+
+fn residual(contact: &Contact, lambda: f64, x: &[[f64; 3]]) -> Vec<f64> {
+    let mut r = vec![0.0; 3 * x.len()];
+    contact.add(lambda, x, &mut r, None).expect("admissible");
+    r
+}
+
+/// Cases on the punch (tip at −3 mm at λ = 0.3, −2.5 mm at the step's start) and the die.
+fn cases() -> Vec<Case> {
+    let tip = -3.0;
+    // A point on the hemisphere at plan radius ρ, sunk by `sink` along the normal.
+    let on_punch = |rho: f64, phi: f64, sink: f64| {
+        let r = 30.0f64;
+        let z0 = tip + r;
+        let (x, y) = (rho * phi.cos(), rho * phi.sin());
+        let z = z0 - (r * r - rho * rho).sqrt();
+        let n = [x / r, y / r, (z - z0) / r];
+        [x - sink * n[0], y - sink * n[1], z - sink * n[2]]
+    };
+    // A point on the die's entry radius (opening 31.5, rm 5) at angle θ from the face.
+    let on_radius = |theta: f64, sink: f64| {
+        let (cx, cz) = (31.5 + 5.0, -5.0);
+        let (nx, nz) = (-theta.sin(), theta.cos());
+        [cx + (5.0 - sink) * nx, 0.0, cz + (5.0 - sink) * nz]
+    };
+    let a_now = on_punch(0.5, 0.3, 0.004);
+    let b_now = on_punch(12.0, 0.7, 0.003);
+    let d_now = on_radius(0.6, 0.002);
+    vec![
+        Case {
+            name: "a pole, pressed, nearly stuck",
+            start: [a_now[0] - 0.01, a_now[1] + 0.005, a_now[2] + 0.5],
+            now: a_now,
+        },
+        Case {
+            name: "b flank, pressed, sliding",
+            start: [b_now[0] + 0.6, b_now[1] + 0.2, b_now[2] + 0.3],
+            now: b_now,
+        },
+        Case {
+            name: "c flange under the holder, sliding",
+            start: [50.0, 12.0, -0.0003],
+            now: [49.3, 11.8, -0.0004],
+        },
+        Case {
+            name: "d entry radius, sliding",
+            start: [d_now[0] + 0.5, 0.1, d_now[2] + 0.2],
+            now: d_now,
+        },
+        Case {
+            name: "e holder band, sliding",
+            start: [38.2, 1.0, -0.0002],
+            now: [37.8, 0.9, -0.0003],
+        },
+        Case {
+            name: "f hovering in the smoothing gap",
+            start: [60.0, 5.0, 0.02],
+            now: [59.7, 5.1, 0.012],
+        },
+    ]
+}
+
+#[test]
+fn node_blocks_are_the_derivative_of_the_forces() {
+    for mu in [0.0, 0.2] {
+        let cases = cases();
+        let (contact, x, lambda) = setup(&cases, mu);
+        let mut r = vec![0.0; 3 * x.len()];
+        let mut blocks = vec![NodeBlock::default(); x.len()];
+        contact.add(lambda, &x, &mut r, Some(&mut blocks)).unwrap();
+        for (i, case) in cases.iter().enumerate() {
+            let j = blocks[i].total();
+            let h = 1e-6;
+            let mut worst = 0.0f64;
+            let scale = j.iter().flatten().fold(1.0f64, |m, v| m.max(v.abs()));
+            let mut fd = [[0.0; 3]; 3];
+            for b in 0..3 {
+                let mut xp = x.clone();
+                let mut xm = x.clone();
+                xp[i][b] += h;
+                xm[i][b] -= h;
+                let (rp, rm) = (residual(&contact, lambda, &xp), residual(&contact, lambda, &xm));
+                for a in 0..3 {
+                    fd[a][b] = (rp[3 * i + a] - rm[3 * i + a]) / (2.0 * h);
+                    worst = worst.max((fd[a][b] - j[a][b]).abs() / scale);
+                }
+            }
+            println!("μ {mu}, {}: worst relative error {worst:.2e}", case.name);
+            assert!(
+                worst < 1e-5,
+                "μ {mu}, {}: blocks {j:?}\nfinite differences {fd:?}",
+                case.name
+            );
+        }
+    }
+}
