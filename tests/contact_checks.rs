@@ -58,6 +58,7 @@ fn setup(cases: &[Case], mu: f64) -> (Contact, Vec<[f64; 3]>, f64) {
             slip_regularisation: 0.025,
             penalty_factor: 1.0,
             contact_smoothing: 0.025,
+            lagged: false,
         },
         vec![6.25; n],
         &vec![K; n],
@@ -165,4 +166,115 @@ fn node_blocks_are_the_derivative_of_the_forces() {
             );
         }
     }
+}
+
+/// The merit the line search uses along a correction from `x` (frozen there).
+fn frozen_merit(contact: &Contact, lambda: f64, x: &[[f64; 3]]) -> f64 {
+    let mut r = vec![0.0; 3 * x.len()];
+    contact.add(lambda, x, &mut r, None).unwrap().energy_frozen
+}
+
+#[test]
+fn forces_are_the_gradient_of_the_merit_where_it_is_frozen() {
+    for mu in [0.0, 0.2] {
+        let cases = cases();
+        let (mut contact, x, lambda) = setup(&cases, mu);
+        contact.freeze(lambda, &x);
+        let r = residual(&contact, lambda, &x);
+        // Without friction the merit is the terms' own potential wherever it is evaluated.
+        let mut rr = vec![0.0; 3 * x.len()];
+        let sums = contact.add(lambda, &x, &mut rr, None).unwrap();
+        assert!((sums.energy - sums.energy_frozen).abs() <= 1e-12 * sums.energy.abs().max(1.0));
+        for (i, case) in cases.iter().enumerate() {
+            let h = 1e-6;
+            let mut worst = 0.0f64;
+            let scale = (0..3).fold(1e-3f64, |m, a| m.max(r[3 * i + a].abs()));
+            for b in 0..3 {
+                let mut xp = x.clone();
+                let mut xm = x.clone();
+                xp[i][b] += h;
+                xm[i][b] -= h;
+                let g = (frozen_merit(&contact, lambda, &xp) - frozen_merit(&contact, lambda, &xm))
+                    / (2.0 * h);
+                worst = worst.max((g - r[3 * i + b]).abs() / scale);
+            }
+            println!("μ {mu}, {}: gradient against force, worst {worst:.2e}", case.name);
+            assert!(worst < 1e-5, "μ {mu}, {}: {worst}", case.name);
+        }
+    }
+}
+
+#[test]
+fn friction_is_mu_n_times_the_regularised_slip_direction() {
+    // Coulomb's law regularised: |friction| = μ N |s| / sqrt(|s|² + ε²), with s the slip in the
+    // tool's tangent plane since the anchor (the step's start, moving with the punch: 0.5 mm
+    // down from λ = 0.25 to 0.3). Case b slides 0.6 mm (full μN to 5e-4); case a has slipped
+    // about 0.011 mm, under ε = 0.025 mm (stick, a fraction of μN).
+    let cases = cases();
+    let mu = 0.2;
+    let eps = 0.025;
+    let (contact, x, lambda) = setup(&cases, mu);
+    let (without, _, _) = setup(&cases, 0.0);
+    let r = residual(&contact, lambda, &x);
+    let r0 = residual(&without, lambda, &x);
+    let punch = Tool::EllipsoidPunch {
+        axes: [30.0; 3],
+        tip: -3.0,
+    };
+    for i in [0usize, 1] {
+        let n = punch.distance(x[i]).n;
+        let anchor = [cases[i].start[0], cases[i].start[1], cases[i].start[2] - 0.5];
+        let rel: Vec<f64> = (0..3).map(|m| x[i][m] - anchor[m]).collect();
+        let rn: f64 = (0..3).map(|m| rel[m] * n[m]).sum();
+        let slip = (0..3).map(|m| (rel[m] - rn * n[m]).powi(2)).sum::<f64>().sqrt();
+        let expected = slip / (slip * slip + eps * eps).sqrt();
+        let friction: f64 = (0..3).map(|m| (r[3 * i + m] - r0[3 * i + m]).powi(2)).sum::<f64>().sqrt();
+        let normal: f64 = (0..3).map(|m| r0[3 * i + m].powi(2)).sum::<f64>().sqrt();
+        let share = friction / (mu * normal);
+        println!(
+            "{}: slip {slip:.4} mm, |friction| / μN = {share:.6} (closed form {expected:.6})",
+            cases[i].name
+        );
+        assert!((share / expected - 1.0).abs() < 1e-9, "{share} vs {expected}");
+    }
+}
+
+#[test]
+fn a_free_blank_needs_almost_no_punch_force_until_the_yarns_go_taut() {
+    // No holder, no friction: the punch only carries the blank down into the die. The drawing
+    // refuses this problem (no unique shape); the solver itself must still find one of its
+    // zero-force equilibria without crawling.
+    use std::ops::ControlFlow;
+    use wovenform::core::drawing::{self, DrawingProblem};
+    use wovenform::core::solver::{Solver, SolverOptions};
+    let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
+    p.fabric.undulation = false;
+    p.element_size = 5.0;
+    p.stroke = 6.0;
+    p.friction = 0.0;
+    p.holder_pressure = 0.0;
+    let mut free = p.build().map_err(|e| e.2).expect("the model builds");
+    let mut solver = Solver::new(&mut free.model, SolverOptions::default());
+    let outcome = solver.solve(&free.prescribed, &mut free.contact, &mut |_| {
+        ControlFlow::Continue(())
+    });
+    assert!(outcome.is_ok(), "{outcome:?}");
+    let x = free.model.positions();
+    let force = -4.0 * free.contact.tool_force(0, 1.0, &x)[2];
+    let tension = free
+        .model
+        .max_tension_n()
+        .into_iter()
+        .fold(0.0f64, f64::max);
+    // The same stroke with the paper's holder and friction, for scale.
+    let mut held = p.clone();
+    held.friction = 0.2;
+    held.holder_pressure = 1.0;
+    let held = drawing::solve(&held, &mut |_| {});
+    let held_force = held.force_history.iter().map(|f| f.1).fold(0.0, f64::max);
+    println!(
+        "free blank: max tension {tension:.3} N, punch force {force:.3} N (held blank: {held_force:.1} N)"
+    );
+    assert!(tension < 1.0);
+    assert!(force.abs() < 1e-2 * held_force);
 }

@@ -57,7 +57,7 @@ const EXTRAS: [&str; 7] = [
     "draw_in_mm",
     "break_tension_n",
     "stabilisation_work_share",
-    "stabilisation_force_ratio",
+    "unsound",
     "cutbacks",
 ];
 

@@ -259,3 +259,40 @@ fn newton_converges_quadratically_on_a_stretched_and_rotated_sheet() {
         }
     }
 }
+
+#[test]
+fn newton_converges_quadratically_on_the_box_once_the_active_set_settles() {
+    // The open box (coarse, 12 mm of stroke) solved to a tight tolerance. Where an iteration
+    // and the next change no contact and no yarn between slack and taut (the active set has
+    // settled), each Newton iteration squares the residual: r(k+1)/r(k)² stays bounded (the
+    // residuals made dimensionless by the punch force on the solved quarter; pairs at the
+    // round-off floor, 1e-10 of it, left out).
+    use wovenform::core::drawing::{self, DrawingProblem};
+    let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
+    p.fabric.undulation = false;
+    p.element_size = 5.0;
+    p.stroke = 12.0;
+    p.solver.record_residuals = true;
+    p.solver.tol_force = 1e-11;
+    let r = drawing::solve(&p, &mut |_| {});
+    assert!(r.converged, "{:?}", r.failure);
+    let scale = r.punch_force_n / 4.0;
+    let mut ratios = Vec::new();
+    for (h, c) in r.stats.residuals.iter().zip(&r.stats.active_changes) {
+        for k in 1..h.len().saturating_sub(1) {
+            let (a, b) = (h[k] / scale, h[k + 1] / scale);
+            let settled = c[k] == 0 && c[k + 1] == 0;
+            if settled && a < 1e-2 && b > 1e-10 {
+                ratios.push(b / (a * a));
+            }
+        }
+    }
+    let worst = ratios.iter().cloned().fold(0.0, f64::max);
+    println!(
+        "box: {} settled pairs in {} steps, worst r(k+1)/r(k)² = {worst:.3e} ({ratios:.2?})",
+        ratios.len(),
+        r.stats.steps
+    );
+    assert!(ratios.len() >= 5, "{:?} {:?}", r.stats.residuals, r.stats.active_changes);
+    assert!(worst < 1e3, "not quadratic: {ratios:?}");
+}

@@ -316,24 +316,19 @@ impl DrawingProblem {
     /// Meshes the blank and builds the model and the contact terms, or says why the problem
     /// has no answer (with the mesh that was built, for a result to show).
     pub fn prepare(&self) -> Result<Prepared, (Mesh, Vec<String>, DrawingFailure)> {
+        if let Some(why) = self.unrestrained() {
+            let mesh = self.blank_mesh(self.quarter_applies());
+            return Err((mesh, self.left_out(), DrawingFailure::NoUniqueShape(why)));
+        }
+        self.build()
+    }
+
+    /// [`DrawingProblem::prepare`] without asking whether the problem has a unique answer: for
+    /// checks of the solver on degenerate problems (a blank held by nothing).
+    pub fn build(&self) -> Result<Prepared, (Mesh, Vec<String>, DrawingFailure)> {
         let quarter = self.quarter_applies();
         let mesh = self.blank_mesh(quarter);
-        let mut left_out = Vec::new();
-        if !quarter {
-            left_out.push("quarter symmetry (yarns not along both axes)".to_string());
-        }
-        if !self.fabric.undulation {
-            left_out.push("undulation (the linear yarn law is used)".to_string());
-        }
-        if self.holder_pressure == 0.0 {
-            left_out.push("blank holder (pressure 0)".to_string());
-        }
-        if self.friction == 0.0 {
-            left_out.push("friction (μ = 0)".to_string());
-        }
-        if let Some(why) = self.unrestrained() {
-            return Err((mesh, left_out, DrawingFailure::NoUniqueShape(why)));
-        }
+        let left_out = self.left_out();
         let prescribed = symmetry_planes(&mesh, quarter);
         let law = CellLaw::new(self.fabric);
         let model = match Model::new(mesh.clone(), law, &prescribed.dofs) {
@@ -348,6 +343,24 @@ impl DrawingProblem {
             quarter,
             left_out,
         })
+    }
+
+    /// Terms the problem does not need and that are not built.
+    fn left_out(&self) -> Vec<String> {
+        let mut left_out = Vec::new();
+        if !self.quarter_applies() {
+            left_out.push("quarter symmetry (yarns not along both axes)".to_string());
+        }
+        if !self.fabric.undulation {
+            left_out.push("undulation (the linear yarn law is used)".to_string());
+        }
+        if self.holder_pressure == 0.0 {
+            left_out.push("blank holder (pressure 0)".to_string());
+        }
+        if self.friction == 0.0 {
+            left_out.push("friction (μ = 0)".to_string());
+        }
+        left_out
     }
 }
 

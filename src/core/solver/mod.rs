@@ -110,6 +110,13 @@ pub struct SolveStats {
     pub mechanism: bool,
     /// Residual norms of each Newton iteration, per accepted step (if recorded).
     pub residuals: Vec<Vec<f64>>,
+    /// For the same iterations: how many yarns changed between slack and taut, or nodes between
+    /// touching a tool and not, since the iteration before (the active set's changes).
+    pub active_changes: Vec<Vec<u32>>,
+    /// For the same iterations: the line search's length and the damping (times the cells'
+    /// stiffness) of each correction.
+    pub alphas: Vec<Vec<f64>>,
+    pub damping: Vec<Vec<f64>>,
     /// Work of the forces left out of balance at each converged step (the residual within the
     /// tolerance) along the path, N·mm: what of the punch's work is not the model's.
     pub unbalanced_work: f64,

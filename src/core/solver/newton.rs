@@ -61,6 +61,20 @@ fn norm_inf(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
+/// The record of one step's iterations.
+#[derive(Clone, Debug, Default)]
+pub(super) struct History {
+    /// The residual norm of each iteration, N.
+    pub residuals: Vec<f64>,
+    /// How many yarns changed between slack and taut, or nodes between touching a tool and not,
+    /// since the previous iteration (recorded with `record_residuals`).
+    pub changes: Vec<u32>,
+    /// The damping and the line search's length of each correction (recorded likewise).
+    pub damping: Vec<f64>,
+    pub alphas: Vec<f64>,
+    last_active: Option<Vec<bool>>,
+}
+
 /// What one step's iterations carry from one to the next.
 struct Progress {
     /// The residual norm of the first iteration (the scale of the pseudo-transient damping).
@@ -69,6 +83,8 @@ struct Progress {
     last_du: f64,
     /// The last correction was taken in full.
     last_full: bool,
+    /// The damping of the last correction, times the cells' stiffness.
+    damping: f64,
 }
 
 impl Solver<'_> {
@@ -80,13 +96,14 @@ impl Solver<'_> {
         lambda: f64,
         terms: &mut dyn NodalTerms,
         u_step_start: &[f64],
-        history: &mut Vec<f64>,
+        history: &mut History,
     ) -> Result<u32, NewtonError> {
         let mut carried = None;
         let mut progress = Progress {
             first_residual: None,
             last_du: f64::INFINITY,
             last_full: false,
+            damping: 0.0,
         };
         for it in 0..=self.options.max_iterations {
             let a = match carried.take() {
@@ -97,7 +114,16 @@ impl Solver<'_> {
                 return Err(NewtonError::Inadmissible);
             }
             let rn = norm2(&a.r);
-            history.push(rn);
+            history.residuals.push(rn);
+            if self.options.record_residuals {
+                let active = self.active_set();
+                let changes = history
+                    .last_active
+                    .as_ref()
+                    .map_or(0, |last| last.iter().zip(&active).filter(|(a, b)| a != b).count());
+                history.changes.push(changes as u32);
+                history.last_active = Some(active);
+            }
             let tolerance = self.residual_tolerance(&a);
             if rn <= tolerance && self.small_correction(&progress, u_step_start) {
                 return Ok(it);
@@ -116,14 +142,30 @@ impl Solver<'_> {
             };
             let (alpha, next) = self.search(lambda, &*terms, &x, &c, &base, progress.last_full)?;
             carried = next;
+            if self.options.record_residuals {
+                history.alphas.push(alpha);
+                history.damping.push(progress.damping);
+            }
             self.adapt_damping(alpha);
             progress.last_full = alpha >= 0.999;
             progress.last_du = alpha * norm_inf(&c.du);
         }
         Err(NewtonError::NoConvergence {
             iterations: self.options.max_iterations,
-            residual_n: history.last().copied().unwrap_or(f64::NAN),
+            residual_n: history.residuals.last().copied().unwrap_or(f64::NAN),
         })
+    }
+
+    /// Which yarns are slack (each Gauss point's two) and which nodes the tools touch, at the
+    /// last assembly with the tangent.
+    fn active_set(&self) -> Vec<bool> {
+        let slack = self
+            .model
+            .outputs
+            .iter()
+            .flat_map(|o| o.tension.iter().flat_map(|t| [t[0] == 0.0, t[1] == 0.0]));
+        let touched = self.ws.blocks.iter().map(|b| !b.is_zero());
+        slack.chain(touched).collect()
     }
 
     /// The residual that ends the iterations, N: relative to the load scale, with a floor of a
@@ -157,6 +199,7 @@ impl Solver<'_> {
     ) -> Result<Correction, NewtonError> {
         let r0 = *progress.first_residual.get_or_insert(rn);
         let damping = self.options.stabilisation * (rn / r0).min(1.0) + self.levenberg;
+        progress.damping = damping;
         self.ws.add_damping(self.model, damping);
         if !self.options.exact_jacobian {
             self.ws.rest.clear();

@@ -3,7 +3,7 @@
 
 use std::ops::ControlFlow;
 
-use super::newton::NewtonError;
+use super::newton::{History, NewtonError};
 use super::terms::{NodalTerms, Prescribed};
 use super::Solver;
 
@@ -88,7 +88,7 @@ impl Solver<'_> {
                 terms.project(target, &mut x);
                 self.model.set_free_positions(&x);
             }
-            let mut history = Vec::new();
+            let mut history = History::default();
             let mut outcome = self.newton(target, terms, &u_start, &mut history);
             // Terms that lag (friction's normal force) are solved again from the converged
             // state until a pass needs no iteration: the fixed point within the step.
@@ -116,7 +116,10 @@ impl Solver<'_> {
                     self.stats.steps += 1;
                     self.stats.lambda = lambda;
                     if self.options.record_residuals {
-                        self.stats.residuals.push(history);
+                        self.stats.residuals.push(history.residuals);
+                        self.stats.active_changes.push(history.changes);
+                        self.stats.alphas.push(history.alphas);
+                        self.stats.damping.push(history.damping);
                     }
                     if progress(lambda).is_break() {
                         return Err(Failure::Stopped { lambda });
