@@ -36,6 +36,8 @@ fn tools() -> Vec<(&'static str, Tool)> {
             },
         ),
         ("elliptic die", Tool::elliptic_die([40.0, 25.0], 1.5, 5.0)),
+        ("elliptic die, tall", Tool::elliptic_die([20.0, 35.0], 1.5, 5.0)),
+        ("circular die", Tool::elliptic_die([30.0, 30.0], 1.5, 5.0)),
     ]
 }
 
@@ -212,4 +214,34 @@ fn curvature_of_the_nose_and_the_sphere() {
         .map(|i| (0..3).map(|j| tdir[i] * h[i][j] * tdir[j]).sum::<f64>())
         .sum();
     assert!((k - 1.0 / 6.0).abs() < 1e-5, "profile curvature {k}");
+}
+
+#[test]
+fn elliptic_opening_distance_against_the_nearest_of_many_points() {
+    // The die's elliptic opening (semi-axes 40 × 25, offset 1.5): its plan distance at a point
+    // is the distance to the nearest of 400,000 points on the ellipse (to within their spacing),
+    // less the offset; inside the evolute on the major axis the nearest point leaves the axis.
+    let (a, b, offset) = (40.0, 25.0, 1.5);
+    let die = Tool::elliptic_die([a, b], offset, 5.0);
+    let samples: Vec<[f64; 2]> = (0..400_000)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / 400_000.0;
+            [a * t.cos(), b * t.sin()]
+        })
+        .collect();
+    let mut g = Lcg(7);
+    let mut points: Vec<[f64; 2]> = (0..300)
+        .map(|_| [g.range(-60.0, 60.0), g.range(-45.0, 45.0)])
+        .collect();
+    points.extend([[5.0, 0.0], [0.0, 3.0], [0.0, 0.0], [-30.0, 0.0], [0.0, -40.0]]);
+    for p in points {
+        let nearest = samples
+            .iter()
+            .map(|s| ((p[0] - s[0]).powi(2) + (p[1] - s[1]).powi(2)).sqrt())
+            .fold(f64::INFINITY, f64::min);
+        let inside = (p[0] / a).powi(2) + (p[1] / b).powi(2) < 1.0;
+        let expected = if inside { -nearest } else { nearest } - offset;
+        let (d, _, _) = die.opening_distance(p[0], p[1]).unwrap();
+        assert!((d - expected).abs() < 1e-6, "at {p:?}: {d} vs {expected}");
+    }
 }

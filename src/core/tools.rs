@@ -83,6 +83,15 @@ pub struct OffsetEllipse {
 
 impl OffsetEllipse {
     fn plan(&self, x: f64, y: f64) -> Plan {
+        if self.ax == self.ay {
+            // A circle: the distance to its centre less the radius.
+            let r = (x * x + y * y).sqrt();
+            let g = if r > 0.0 { [x / r, y / r] } else { [1.0, 0.0] };
+            return Plan {
+                d: r - self.ax - self.offset,
+                g,
+            };
+        }
         let (d, g) = ellipse_distance(self.ax, self.ay, x, y);
         Plan {
             d: d - self.offset,
@@ -96,51 +105,59 @@ fn sign(v: f64) -> f64 {
 }
 
 /// Signed distance from `(x, y)` to the ellipse `x²/a² + y²/b² = 1` and its gradient.
+///
+/// The nearest point of a point `q` in the first quadrant is `xᵢ = aᵢ² qᵢ/(aᵢ² + t)` for the
+/// root `t` of `F(t) = Σ (aᵢ qᵢ/(aᵢ² + t))² − 1`, which is decreasing and convex where it
+/// matters: Newton from a point left of the root climbs to it monotonically (Eberly, "Distance
+/// from a point to an ellipse"; no trigonometry). On the major axis inside the evolute the
+/// nearest point is off the axis and has a closed form.
 fn ellipse_distance(a: f64, b: f64, x: f64, y: f64) -> (f64, [f64; 2]) {
-    // Work in the first quadrant; the nearest point (a cos t, b sin t), t ∈ [0, π/2].
-    let (px, py) = (x.abs(), y.abs());
-    let f = |t: f64| -> (f64, f64) {
-        let (s, c) = t.sin_cos();
-        // d/dt of ½|p − e(t)|²: (a² − b²) s c − px a s + py b c; and its derivative.
-        let g = (a * a - b * b) * s * c - px * a * s + py * b * c;
-        let dg = (a * a - b * b) * (c * c - s * s) - px * a * c - py * b * s;
-        (g, dg)
-    };
-    // g(0) = py b ≥ 0, g(π/2) = −px a ≤ 0: a bracketed Newton–bisection.
-    let (mut lo, mut hi) = (0.0, std::f64::consts::FRAC_PI_2);
-    let mut t = (py * a).atan2(px * b).clamp(lo, hi);
-    for _ in 0..100 {
-        let (g, dg) = f(t);
-        if g > 0.0 {
-            lo = t;
-        } else {
-            hi = t;
-        }
-        let mut next = if dg != 0.0 {
-            t - g / dg
-        } else {
-            0.5 * (lo + hi)
+    // Major axis first.
+    let swap = a < b;
+    let (e0, e1) = if swap { (b, a) } else { (a, b) };
+    let (y0, y1) = if swap { (y.abs(), x.abs()) } else { (x.abs(), y.abs()) };
+    let (x0, x1) = if y1 > 0.0 && y0 > 0.0 {
+        // In the multiplier s = t/e1²: F(s) = (r z0/(s + r))² + (z1/(s + 1))² − 1, r = (e0/e1)².
+        let (z0, z1) = (y0 / e0, y1 / e1);
+        let r = (e0 / e1).powi(2);
+        let f = |s: f64| {
+            let (u, v) = (r * z0 / (s + r), z1 / (s + 1.0));
+            let value = u * u + v * v - 1.0;
+            let slope = -2.0 * (u * u / (s + r) + v * v / (s + 1.0));
+            (value, slope)
         };
-        if !(next > lo && next < hi) {
-            next = 0.5 * (lo + hi);
+        let mut s = z1 - 1.0;
+        for _ in 0..64 {
+            let (value, slope) = f(s);
+            if value <= 0.0 || slope >= 0.0 {
+                break;
+            }
+            let next = s - value / slope;
+            if next - s <= 1e-15 * (1.0 + s.abs()) {
+                s = next;
+                break;
+            }
+            s = next;
         }
-        if (next - t).abs() <= 1e-15 * (1.0 + t) || hi - lo <= 1e-15 {
-            t = next;
-            break;
+        (r * y0 / (s + r), y1 / (s + 1.0))
+    } else if y1 > 0.0 {
+        (0.0, e1)
+    } else {
+        let (numer, denom) = (e0 * y0, e0 * e0 - e1 * e1);
+        if numer < denom {
+            let c = numer / denom;
+            (e0 * c, e1 * (1.0 - c * c).max(0.0).sqrt())
+        } else {
+            (e0, 0.0)
         }
-        t = next;
-    }
-    let (s, c) = t.sin_cos();
-    let (ex, ey) = (a * c, b * s);
-    let (dx, dy) = (px - ex, py - ey);
-    let dist = (dx * dx + dy * dy).sqrt();
-    let inside = (px / a).powi(2) + (py / b).powi(2) < 1.0;
-    // Outward normal of the ellipse at the nearest point.
-    let (nx, ny) = {
-        let (gx, gy) = (ex / (a * a), ey / (b * b));
-        let l = (gx * gx + gy * gy).sqrt();
-        (gx / l, gy / l)
     };
+    let dist = ((y0 - x0).powi(2) + (y1 - x1).powi(2)).sqrt();
+    let inside = (y0 / e0).powi(2) + (y1 / e1).powi(2) < 1.0;
+    // Outward normal of the ellipse at the nearest point.
+    let (gx, gy) = (x0 / (e0 * e0), x1 / (e1 * e1));
+    let l = (gx * gx + gy * gy).sqrt();
+    let (n0, n1) = (gx / l, gy / l);
+    let (nx, ny) = if swap { (n1, n0) } else { (n0, n1) };
     let d = if inside { -dist } else { dist };
     (d, [sign(x) * nx, sign(y) * ny])
 }
@@ -308,10 +325,39 @@ impl Tool {
         }
     }
 
+    /// Whether the nearest surface to `p`, and to every point within `margin` of it, is the
+    /// flat face `z = tip` of a punch or `z = 0` of a die (whose curvature is zero).
+    fn on_flat_face(&self, p: [f64; 3], margin: f64) -> bool {
+        let (u, v) = match *self {
+            Tool::FlatPunch {
+                plan,
+                nose_radius,
+                tip,
+            } => (
+                punch_plan(&plan, nose_radius, tip, p).0 + nose_radius,
+                tip - p[2] + nose_radius,
+            ),
+            Tool::Die {
+                opening,
+                entry_radius,
+            } => (
+                -opening.plan(p[0], p[1]).d + entry_radius,
+                p[2] + entry_radius,
+            ),
+            Tool::EllipsoidPunch { .. } => return false,
+        };
+        // The face's branch of the rounded intersection: off the rounded edge (u ≤ 0) and nearer
+        // the face than the side (v > u), each with room to spare.
+        u <= -margin && v > u + margin
+    }
+
     /// The Hessian of the signed distance (the curvature of the surface, `∂n/∂x`) at `p`, by
-    /// central differences of the analytic normal.
+    /// central differences of the analytic normal (zero on a flat face).
     pub fn curvature(&self, p: [f64; 3], scale: f64) -> [[f64; 3]; 3] {
         let h = 1e-5 * scale.max(1e-3);
+        if self.on_flat_face(p, 10.0 * h) {
+            return [[0.0; 3]; 3];
+        }
         let mut hess = [[0.0; 3]; 3];
         for j in 0..3 {
             let mut pp = p;

@@ -53,7 +53,12 @@ pub(super) fn solve(
     }
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let mut krylov_iterations = 0;
-    if !ws.rest.is_empty() {
+    // The factorization's correction leaves `J du + r = rest · du` (its matrix solved the rest
+    // exactly): GMRES only when that exceeds the forcing.
+    let mut left = vec![0.0; du.len()];
+    add_rest(model, ws, &du, &mut left);
+    let norm_r = norm(r);
+    if norm(&left) > forcing * norm_r {
         let b: Vec<f64> = r.iter().map(|v| -v).collect();
         let mut x = du.clone();
         krylov_iterations = gmres(model, ws, &b, &mut x, forcing);
@@ -75,6 +80,11 @@ pub(super) fn solve(
 /// `y = J x`: the stored symmetric tangent plus the remainder blocks.
 fn apply_jacobian(model: &Model, ws: &Workspace, x: &[f64], y: &mut [f64], scratch: &mut Vec<f64>) {
     model.linear.mul(&ws.values, x, y, scratch);
+    add_rest(model, ws, x, y);
+}
+
+/// `y += rest · x`: the remainder blocks, node by node.
+fn add_rest(model: &Model, ws: &Workspace, x: &[f64], y: &mut [f64]) {
     for (nd, block) in &ws.rest {
         for a in 0..3 {
             let row = model.eq[3 * nd + a];
