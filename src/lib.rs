@@ -5,6 +5,7 @@ pub mod bench;
 pub mod converge;
 pub mod core;
 pub mod fit;
+pub mod machine;
 pub mod report;
 pub mod scene;
 pub mod sweep;

@@ -517,6 +517,13 @@ fn run(args: RunArgs) -> Result<(), Failure> {
     } else {
         print!("{}", summary.to_text());
     }
+    if !summary.unsound.is_empty() {
+        return Err(Failure::Run(format!(
+            "{}: the result cannot be trusted: {}",
+            args.scene.display(),
+            summary.unsound.join("; ")
+        )));
+    }
     if !result.converged {
         return Err(Failure::Run(format!(
             "{}: the drawing did not converge: {}",

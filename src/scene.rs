@@ -871,6 +871,7 @@ impl Scene {
                 ),
             },
         )?;
+        self.check_size(crate::machine::memory_budget_bytes())?;
         let yarns_on_axes = (self.fabric.yarn_angle_deg - 90.0).abs() < 1e-9;
         ok_if(
             m.symmetry != SymmetryChoice::Quarter || yarns_on_axes,
@@ -902,6 +903,51 @@ impl Scene {
             )
         })?;
         Ok(())
+    }
+
+    /// The mesh fits in `budget` bytes (the estimate of [`DrawingProblem::size_estimate`]),
+    /// checked before anything is allocated; otherwise the error says how large is too large
+    /// and which element size would fit.
+    fn check_size(&self, budget: f64) -> Result<(), Broken> {
+        let problem = self.to_problem();
+        let size = problem.size_estimate();
+        if size.bytes <= budget {
+            return Ok(());
+        }
+        // The smallest element size that fits, by bisection (the estimate falls with h).
+        let fits = |h: f64| {
+            let mut p = problem.clone();
+            p.element_size = h;
+            p.size_estimate().bytes <= budget
+        };
+        let (mut lo, mut hi) = (problem.element_size, 0.25 * problem.blank[0].min(problem.blank[1]));
+        let advice = if fits(hi) {
+            for _ in 0..60 {
+                let mid = (lo * hi).sqrt();
+                if fits(mid) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            format!("expected mesh.element_size ≥ {:.3} mm for this blank", hi * 1.0005)
+        } else {
+            "expected a smaller blank.size".to_string()
+        };
+        let show = crate::machine::show_bytes;
+        Err(Broken {
+            key: "mesh.element_size".into(),
+            involved: vec!["mesh.element_size", "blank.size"],
+            detail: format!(
+                "mesh.element_size = {} mm on a {} mm blank: {:.2e} elements ({} solved) would need about {} of memory, and a run may take {} on this machine (80 % of what is available): {advice}",
+                self.mesh.element_size,
+                self.blank.size,
+                size.elements,
+                if problem.quarter_applies() { "a quarter" } else { "the full blank" },
+                show(size.bytes),
+                show(budget),
+            ),
+        })
     }
 
     /// The drawing this scene describes, for [`crate::core::drawing::solve`]. Solver settings

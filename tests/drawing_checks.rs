@@ -267,8 +267,10 @@ fn newton_with_the_friction_coupling_converges_quadratically() {
         "capstan: exact Jacobian {n} pairs, worst r(k+1)/r(k)² = {worst:.2} ({} iterations); symmetric part only: worst {worst_symmetric:.2e} ({} iterations)",
         exact.stats.newton_iterations, symmetric.stats.newton_iterations
     );
-    assert!(n >= 4 && worst < 100.0, "{:?}", exact.stats.residuals);
-    assert!(worst_symmetric > 1e3, "{:?}", symmetric.stats.residuals);
+    // (The bound leaves room for the contact law's double root where the flange nodes' contact
+    // force goes to zero; the symmetric part alone goes far past it.)
+    assert!(n >= 4 && worst < 1e3, "{:?}", exact.stats.residuals);
+    assert!(worst_symmetric > 1e4, "{:?}", symmetric.stats.residuals);
     // Both reach the same answer (their steps differ, hence the path: within 0.1 %).
     println!("T_out/T_in {:.5} and {:.5}", exact.ratio, symmetric.ratio);
     assert!((exact.ratio / symmetric.ratio - 1.0).abs() < 1e-3);
@@ -435,4 +437,30 @@ fn a_run_stops_at_the_step_it_is_asked_to() {
     );
     assert!(r.stroke_reached_mm > 0.0 && r.stroke_reached_mm < p.stroke);
     assert!(r.shear_deg.iter().all(|s| s.is_finite()));
+}
+
+#[test]
+fn the_size_estimate_matches_the_model_it_describes() {
+    // The estimate a too-large mesh is refused by, against the model actually built: element
+    // and dof counts exactly, the Cholesky factor's entries to within 15 % (60 % on the
+    // smallest mesh, where the estimate errs on the safe side).
+    for (h, yarn_angle) in [(5.0, 90.0), (2.5, 90.0), (1.25, 90.0), (0.8, 90.0), (0.6, 90.0), (5.0, 80.0), (2.5, 80.0)] {
+        let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
+        p.element_size = h;
+        p.yarn_angle_deg = yarn_angle;
+        let estimate = p.size_estimate();
+        let prepared = p.prepare().map_err(|e| e.2).unwrap();
+        let model = &prepared.model;
+        let factor = model.sparsity().1 as f64;
+        println!(
+            "h {h} mm, yarns at {yarn_angle}°: {} elements, {} dofs, factor {factor:.3e} entries (estimate {:.3e})",
+            model.mesh.quads.len(),
+            model.mesh.dofs(),
+            estimate.factor_entries
+        );
+        assert_eq!(estimate.elements, model.mesh.quads.len() as f64);
+        assert_eq!(estimate.dofs, model.mesh.dofs() as f64);
+        let tolerance = if model.mesh.dofs() < 3000 { 0.6 } else { 0.15 };
+        assert!((estimate.factor_entries / factor - 1.0).abs() < tolerance);
+    }
 }

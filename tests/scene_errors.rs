@@ -175,3 +175,27 @@ fn wrong_types_and_kinds() {
     let missing = "/nonexistent-wovenform/scene.toml";
     assert_rejected(missing, &[], &[missing, "cannot read"]);
 }
+
+#[test]
+fn a_mesh_too_large_for_the_machine_is_refused_before_any_allocation() {
+    // 0.001 mm elements on the 170 mm blank: 7e9 elements, tens of TiB. Refused with the size,
+    // the memory it would need and what would fit, before a byte of the mesh exists (the
+    // process's peak memory stays that of an idle run).
+    let open = preset("paper-box-open.toml");
+    assert_rejected(
+        &open,
+        &["--set", "mesh.element_size=0.001"],
+        &[
+            "--set mesh.element_size=0.001",
+            "mesh.element_size = 0.001 mm",
+            "elements",
+            "TiB",
+            "expected mesh.element_size ≥",
+        ],
+    );
+    assert_rejected(
+        &open,
+        &["--set", "blank.size=1e6"],
+        &["--set blank.size=1e6", "of memory", "on this machine"],
+    );
+}

@@ -1,8 +1,9 @@
-//! The stiff and extreme cases of `verification.md`: each either converges or stops with a
-//! structured reason — never a panic, a NaN or Inf in any output, or a hang (each case is
-//! bounded by a coarse mesh and a shallow stroke; the wall time is checked).
+//! The stiff and extreme cases of `verification.md`: each converges, or stops with the
+//! structured reason the physics calls for — never a panic, a NaN or Inf in any output, or a
+//! hang (each case is bounded by a coarse mesh and a shallow stroke, and the solver by its step
+//! and iteration budgets).
 
-use wovenform::core::drawing::{self, DrawingProblem, DrawingResult, Tooling};
+use wovenform::core::drawing::{self, DrawingFailure, DrawingProblem, DrawingResult, Tooling};
 
 /// The open box on a coarse mesh and a shallow stroke: the base of every case.
 fn base() -> DrawingProblem {
@@ -38,11 +39,15 @@ fn run(name: &str, p: &DrawingProblem) -> DrawingResult {
         r.failure.as_ref().map(|f| f.to_string()).unwrap_or_default()
     );
     assert!(finite, "{name}: a non-finite value in the output");
-    assert!(
-        r.converged || r.failure.as_ref().is_some_and(|f| !f.to_string().is_empty()),
-        "{name}: stopped without a reason"
-    );
-    assert!(wall_s < 120.0, "{name}: {wall_s} s");
+    r
+}
+
+/// A case that must reach the full stroke with a sound result.
+fn converges(name: &str, p: &DrawingProblem) -> DrawingResult {
+    let r = run(name, p);
+    assert!(r.converged, "{name}: {:?}", r.failure);
+    assert!((r.stroke_reached_mm - p.stroke).abs() < 1e-9);
+    assert!(r.unsound().is_empty(), "{name}: {:?}", r.unsound());
     r
 }
 
@@ -53,26 +58,43 @@ fn yarn_stiffness_from_1e2_to_1e8() {
             let mut p = base();
             p.fabric.c = [c, c];
             p.fabric.undulation = undulation;
-            run(&format!("C = {c:.0e} N, undulation {undulation}"), &p);
+            converges(&format!("C = {c:.0e} N, undulation {undulation}"), &p);
         }
     }
 }
 
 #[test]
 fn friction_from_0_to_1() {
-    for mu in [0.0, 0.5, 1.0] {
+    // μ = 0: nothing holds the flange back; the fabric has no shear or bending stiffness, so
+    // the model has no unique answer, and says so without a single iteration.
+    let mut p = base();
+    p.friction = 0.0;
+    let r = run("friction 0", &p);
+    assert!(matches!(
+        r.failure,
+        Some(DrawingFailure::NoUniqueShape(_))
+    ));
+    assert_eq!(r.stats.newton_iterations, 0);
+    for mu in [0.01, 0.05, 0.5, 1.0] {
         let mut p = base();
         p.friction = mu;
-        run(&format!("friction {mu}"), &p);
+        converges(&format!("friction {mu}"), &p);
     }
 }
 
 #[test]
 fn holder_pressure_from_0_to_20_mpa() {
-    for pressure in [0.0, 5.0, 20.0] {
+    let mut p = base();
+    p.holder_pressure = 0.0;
+    let r = run("holder pressure 0 MPa", &p);
+    assert!(matches!(
+        r.failure,
+        Some(DrawingFailure::NoUniqueShape(_))
+    ));
+    for pressure in [0.01, 5.0, 20.0] {
         let mut p = base();
         p.holder_pressure = pressure;
-        run(&format!("holder pressure {pressure} MPa"), &p);
+        converges(&format!("holder pressure {pressure} MPa"), &p);
     }
 }
 
@@ -91,7 +113,7 @@ fn radii_from_half_a_millimetre_to_50_mm() {
             p.blank = [300.0, 300.0];
             p.element_size = 8.0;
         }
-        run(&format!("radii r {r} rp {rp} rm {rm} mm"), &p);
+        converges(&format!("radii r {r} rp {rp} rm {rm} mm"), &p);
     }
 }
 
@@ -101,7 +123,7 @@ fn zero_die_clearance() {
     if let Tooling::Box { clearance, .. } = &mut p.tooling {
         *clearance = 0.0;
     }
-    run("zero clearance", &p);
+    converges("zero clearance", &p);
 }
 
 #[test]
@@ -112,8 +134,8 @@ fn a_stroke_deeper_than_the_blank_can_follow() {
     p.blank = [120.0, 120.0];
     p.element_size = 6.0;
     p.stroke = 50.0;
-    let r = run("stroke 50 mm, blank 120 mm", &p);
-    assert!(r.converged);
+    let r = converges("stroke 50 mm, blank 120 mm", &p);
+    assert!(r.draw_in_mm > 20.0, "the blank was not pulled in: {}", r.draw_in_mm);
 }
 
 #[test]
@@ -123,10 +145,10 @@ fn elements_much_smaller_and_much_larger_than_a_woven_cell() {
     p.element_size = 1.0;
     p.blank = [100.0, 100.0];
     p.stroke = 4.0;
-    run("elements of 1 mm", &p);
+    converges("elements of 1 mm", &p);
     let mut p = base();
     p.element_size = 20.0;
-    run("elements of 20 mm", &p);
+    converges("elements of 20 mm", &p);
 }
 
 #[test]
@@ -135,13 +157,19 @@ fn a_blank_barely_larger_than_the_die_opening() {
     let mut p = base();
     p.blank = [90.0, 90.0];
     p.element_size = 3.0;
-    run("blank 90 mm", &p);
+    converges("blank 90 mm", &p);
 }
 
 #[test]
-fn no_stabilisation_reports_instead_of_failing_silently() {
+fn no_stabilisation_gives_the_same_answer() {
+    // The stabilisation damps the Newton corrections only: without it the run converges to the
+    // same state (to the path's own spread: the steps differ).
+    let with = converges("stabilisation 1e-4 (default)", &base());
     let mut p = base();
     p.solver.stabilisation = 0.0;
-    let r = run("no stabilisation", &p);
-    assert!(r.converged || r.stats.mechanism || r.failure.is_some());
+    let without = converges("no stabilisation", &p);
+    let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+    assert!(rel(with.punch_force_n, without.punch_force_n) < 5e-3);
+    assert!(rel(with.max_tension_n(), without.max_tension_n()) < 1e-2);
+    assert!((with.max_shear().1 - without.max_shear().1).abs() < 0.1);
 }

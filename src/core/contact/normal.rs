@@ -1,17 +1,20 @@
 //! Normal contact: a penalty on the signed distance `d` of a node to a tool (`n = ∇d` the
 //! outward normal, `H = ∇n` the surface's curvature), eased in over a gap `δ` so that the
-//! contact stiffness grows from `k_e = 0.2 k` at the gap's edge to `k` at the surface. With
-//! `y = δ − d` the depth into the gap:
+//! contact force and its stiffness grow continuously from zero as a node comes within `δ` of
+//! the tool. With `y = δ − d` the depth into the gap:
 //!
 //! ```text
-//!   p(y) = k_e y + (k − k_e) y²/(2δ)                  0 ≤ y ≤ δ     the pressing force, N
-//!   p(y) = p(δ) + k (y − δ)                           y ≥ δ (d ≤ 0)
-//!   φ(y) = ∫ p dy                                     the energy, N·mm
+//!   p = k y²/(2δ),  φ'' = k y/δ,  φ = k y³/(6δ)          0 ≤ y ≤ δ     (p the pressing force, N)
+//!   p = k (δ/2 − d),  φ'' = k,  φ = k (δ²/6 − δd/2 + d²/2)    d ≤ 0
 //! ```
 //!
-//! Newton then sees a contact before it closes instead of throwing a node that hovers a
-//! micrometre off the tool deep into it. For `d ≤ 0` the force is the plain penalty shifted by
-//! `(k + k_e)δ/2`: a node carrying `F` sinks `F/k − (1 + k_e/k)δ/2`.
+//! The energy is C2, so Newton sees a contact before it closes instead of throwing a node that
+//! hovers a micrometre off the tool deep into it, and no stiffness jumps where a light contact
+//! sits (a jump there made the stiffest fabrics chatter between contact and none). The price:
+//! where a node's contact force goes to zero at the solution (the edge of a contact patch) the
+//! force has a double root, and Newton halves that node's depth each iteration instead of
+//! squaring its error. For `d ≤ 0` the force is the plain penalty shifted by `kδ/2`: a node
+//! carrying `F` sinks `F/k − δ/2`.
 //!
 //! The force on the node is `p n` (the residual gains `−p n`), its derivative
 //! `φ'' n nᵀ − p H`: `φ'' n nᵀ` is positive semi-definite and joins the factorized tangent;
@@ -34,30 +37,20 @@ pub struct Penalty {
     pub rest: [[f64; 3]; 3],
 }
 
-/// The share of the penalty's stiffness at the gap's edge, `k_e/k`: the force grows from zero
-/// with a slope (a simple root, so Newton converges quadratically onto a node leaving a tool;
-/// with zero slope it would only halve the gap each iteration).
-pub const EDGE_STIFFNESS: f64 = 0.2;
-
 /// The pressing force `p(d)` (N), the stiffness `φ''(d)` (N/mm) and the energy `φ(d)` (N·mm)
 /// for penalty `k` and smoothing gap `delta`; zero beyond the gap.
 pub fn law(k: f64, delta: f64, d: f64) -> (f64, f64, f64) {
-    let y = delta - d;
-    if y <= 0.0 {
-        return (0.0, 0.0, 0.0);
-    }
-    let ke = EDGE_STIFFNESS * k;
-    if y <= delta {
-        (
-            ke * y + (k - ke) * y * y / (2.0 * delta),
-            ke + (k - ke) * y / delta,
-            ke * y * y / 2.0 + (k - ke) * y * y * y / (6.0 * delta),
-        )
+    if d >= delta {
+        (0.0, 0.0, 0.0)
+    } else if d >= 0.0 {
+        let y = delta - d;
+        (k * y * y / (2.0 * delta), k * y / delta, k * y * y * y / (6.0 * delta))
     } else {
-        let p_edge = 0.5 * (k + ke) * delta;
-        let phi_edge = ke * delta * delta / 2.0 + (k - ke) * delta * delta / 6.0;
-        let z = y - delta;
-        (p_edge + k * z, k, phi_edge + p_edge * z + 0.5 * k * z * z)
+        (
+            k * (0.5 * delta - d),
+            k,
+            k * (delta * delta / 6.0 - 0.5 * delta * d + 0.5 * d * d),
+        )
     }
 }
 

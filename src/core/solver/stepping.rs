@@ -72,6 +72,7 @@ impl Solver<'_> {
         let mut previous: Option<(f64, Vec<f64>)> = None;
         while lambda < 1.0 - 1e-12 {
             if self.stats.steps >= self.options.max_steps {
+                self.ws.assemble(self.model, lambda, &*terms, false);
                 return Err(Failure::TooManySteps {
                     lambda,
                     steps: self.stats.steps,
@@ -133,6 +134,8 @@ impl Solver<'_> {
                     step *= 0.25;
                     previous = None;
                     if step < self.options.min_step {
+                        // Leave the element outputs at the last converged state.
+                        self.ws.assemble(self.model, lambda, &*terms, false);
                         return Err(Failure::StepFailed {
                             lambda,
                             step,
