@@ -96,21 +96,53 @@ pub fn element_rate(repetitions: usize) -> Rate {
     })
 }
 
-/// The paper's open box (the preset, `standard`: 2.5 mm elements), as a problem on one thread.
-pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
-    let scene = crate::scene::Scene::from_toml_str(
-        include_str!("../presets/paper-box-open.toml"),
-        "presets/paper-box-open.toml",
-        &[],
-    )
-    .expect("the embedded preset is valid");
+/// A preset as a problem on one thread, with overrides (`KEY=VALUE`).
+fn preset(text: &str, name: &str, overrides: &[&str]) -> crate::core::drawing::DrawingProblem {
+    let overrides: Vec<crate::scene::Override> = overrides
+        .iter()
+        .map(|o| o.parse().expect("a valid override"))
+        .collect();
+    let scene = crate::scene::Scene::from_toml_str(text, name, &overrides)
+        .expect("the embedded preset is valid");
     let mut p = scene.to_problem();
-    p.element_size = element_size_mm;
     p.solver.parallel = false;
     p
 }
 
-/// A whole run of the paper's open box, and where one Newton iteration's time goes.
+/// The paper's open box (the preset) at an element size, as a problem on one thread.
+pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
+    let mut p = preset(
+        include_str!("../presets/paper-box-open.toml"),
+        "presets/paper-box-open.toml",
+        &[],
+    );
+    p.element_size = element_size_mm;
+    p
+}
+
+/// The drawings the benchmark times, each at `standard` (2.5 mm elements), on one thread.
+pub fn cases() -> Vec<(&'static str, crate::core::drawing::DrawingProblem)> {
+    let open = include_str!("../presets/paper-box-open.toml");
+    let tight = include_str!("../presets/paper-box-tight.toml");
+    vec![
+        ("open box", preset(open, "presets/paper-box-open.toml", &[])),
+        (
+            "tight box (5/6/5)",
+            preset(tight, "presets/paper-box-tight.toml", &[]),
+        ),
+        (
+            "open box, friction 0.05",
+            preset(
+                open,
+                "presets/paper-box-open.toml",
+                &["process.friction=0.05"],
+            ),
+        ),
+    ]
+}
+
+/// One drawing's runs: its counters, its wall times, and (on its final state) where one Newton
+/// iteration's time goes.
 #[derive(Clone, Debug)]
 pub struct BoxRun {
     pub dofs: usize,
@@ -127,6 +159,10 @@ pub struct BoxRun {
     pub assembly_s: f64,
     pub contact_s: f64,
     pub bare_factor_solve_s: f64,
+    /// What the run found: max shear (°), max tension (N), punch force (N).
+    pub max_shear_deg: f64,
+    pub max_tension_n: f64,
+    pub punch_force_n: f64,
 }
 
 impl BoxRun {
@@ -140,6 +176,11 @@ impl BoxRun {
     /// how close an iteration comes to the linear solver's limit.
     pub fn iteration_over_factor_solve(&self) -> f64 {
         self.iteration_s() / self.bare_factor_solve_s
+    }
+
+    /// Newton iterations per load step.
+    pub fn iterations_per_step(&self) -> f64 {
+        self.newton_iterations as f64 / self.steps.max(1) as f64
     }
 }
 
@@ -156,22 +197,24 @@ fn median_time(repetitions: usize, mut run: impl FnMut()) -> f64 {
     )
 }
 
-/// Runs the open box `repetitions` times on one thread, then times the parts of an iteration
-/// on its final state.
-pub fn paper_box_run(element_size_mm: f64, repetitions: usize) -> BoxRun {
+/// Runs a drawing `repetitions` times on one thread, then times the parts of an iteration on
+/// its final state; `Err` with the failure when a run does not reach the full stroke.
+pub fn drawing_run(
+    p: &crate::core::drawing::DrawingProblem,
+    repetitions: usize,
+) -> Result<BoxRun, String> {
     use crate::core::solver::{NodalTerms, NodeBlock, Solver};
-    let p = paper_box(element_size_mm);
     let mut samples = Vec::new();
     let mut last = None;
     for _ in 0..repetitions.max(1) {
-        let mut prepared = p.prepare().map_err(|e| e.2).expect("the open box is well posed");
+        let mut prepared = p.prepare().map_err(|e| e.2.to_string())?;
         let t = Instant::now();
         let mut solver = Solver::new(&mut prepared.model, p.solver.clone());
         let outcome = solver.solve(&prepared.prescribed, &mut prepared.contact, &mut |_| {
             std::ops::ControlFlow::Continue(())
         });
         samples.push(t.elapsed().as_secs_f64());
-        assert!(outcome.is_ok(), "the open box did not converge: {outcome:?}");
+        outcome.map_err(|f| f.to_string())?;
         let stats = solver.stats.clone();
         drop(solver);
         last = Some((prepared, stats));
@@ -180,6 +223,14 @@ pub fn paper_box_run(element_size_mm: f64, repetitions: usize) -> BoxRun {
     let dofs = prepared.model.free_dofs();
     let contact = &prepared.contact;
     let x = prepared.model.positions();
+    let sym = if prepared.quarter { 4.0 } else { 1.0 };
+    let punch_force_n = -sym * contact.tool_force(0, 1.0, &x)[2];
+    let max_tension_n = prepared.model.max_tension_n().into_iter().fold(0.0, f64::max);
+    let max_shear_deg = prepared
+        .model
+        .shear_angles_deg()
+        .into_iter()
+        .fold(0.0, |m: f64, s| m.max(s.abs()));
     let mut r = vec![0.0; 3 * x.len()];
     let mut blocks = vec![NodeBlock::default(); x.len()];
     let contact_s = median_time(15, || {
@@ -194,7 +245,7 @@ pub fn paper_box_run(element_size_mm: f64, repetitions: usize) -> BoxRun {
         let mut rhs = vec![1.0; n];
         black_box(solver.factor_solve_last_tangent(&mut rhs));
     });
-    BoxRun {
+    Ok(BoxRun {
         dofs,
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
@@ -204,7 +255,39 @@ pub fn paper_box_run(element_size_mm: f64, repetitions: usize) -> BoxRun {
         assembly_s,
         contact_s,
         bare_factor_solve_s,
+        max_shear_deg,
+        max_tension_n,
+        punch_force_n,
+    })
+}
+
+
+/// How friction's normal force and direction are resolved within a load step, compared on the
+/// open box: at the current state with the exact Jacobian (the solver's way), with the
+/// symmetric part of the Jacobian only, lagged to the step's start, and lagged with the step
+/// solved again from its converged state `passes` times. Each: the name and its run (or why
+/// it failed).
+pub fn friction_resolution(repetitions: usize) -> Vec<(String, Result<BoxRun, String>)> {
+    let base = paper_box(2.5);
+    let mut variants: Vec<(String, crate::core::drawing::DrawingProblem)> = Vec::new();
+    variants.push(("implicit, exact Jacobian (GMRES)".into(), base.clone()));
+    let mut p = base.clone();
+    p.solver.exact_jacobian = false;
+    variants.push(("implicit, symmetric part only".into(), p));
+    let mut p = base.clone();
+    p.lagged_friction = true;
+    p.solver.max_lag_passes = 0;
+    variants.push(("lagged to the step's start".into(), p));
+    for passes in [1, 2, 3] {
+        let mut p = base.clone();
+        p.lagged_friction = true;
+        p.solver.max_lag_passes = passes;
+        variants.push((format!("lagged, {passes} fixed-point passes"), p));
     }
+    variants
+        .into_iter()
+        .map(|(name, p)| (name, drawing_run(&p, repetitions)))
+        .collect()
 }
 
 /// Wall time against dofs over a mesh ladder of the open box (one run each, one thread), and

@@ -152,6 +152,10 @@ struct BenchArgs {
     /// Repetitions per measurement (the median is reported).
     #[arg(long, default_value_t = 7)]
     repetitions: usize,
+    /// Also compare ways of resolving friction within a load step (implicit with the exact or
+    /// the symmetric Jacobian, lagged, lagged to a fixed point) on the open box.
+    #[arg(long)]
+    friction: bool,
 }
 
 fn parse_accuracy(text: &str) -> Result<Accuracy, String> {
@@ -827,27 +831,58 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
     };
     note("the law and the element");
     let rates = [b::law_rate(reps), b::element_rate(reps)];
-    note("the paper's open box at standard accuracy");
-    let run = b::paper_box_run(2.5, reps.min(5));
+    let box_reps = reps.min(5);
+    let mut drawings = Vec::new();
+    for (name, problem) in b::cases() {
+        note(&format!("the {name} at standard accuracy"));
+        let run = b::drawing_run(&problem, box_reps).map_err(|e| Failure::Run(format!("{name}: {e}")))?;
+        drawings.push((name, run));
+    }
     note("wall time against dofs (5, 3.5, 2.5, 1.75 mm)");
     let (ladder, exponent) = b::dof_scaling(&[5.0, 3.5, 2.5, 1.75]);
     note("sweep throughput with 1 and 2 jobs");
     let one = b::sweep_throughput(1).map_err(Failure::Run)?;
     let two = b::sweep_throughput(2).map_err(Failure::Run)?;
+    let friction = if args.friction {
+        note("friction resolved within the step against lagged, on the open box");
+        b::friction_resolution(box_reps.min(3))
+    } else {
+        Vec::new()
+    };
+    let open = &drawings[0].1;
     if args.json {
+        let run_json = |name: &str, r: &b::BoxRun| {
+            serde_json::json!({
+                "name": name, "wall_s": r.wall_s, "dofs": r.dofs, "steps": r.steps,
+                "newton_iterations": r.newton_iterations,
+                "newton_iterations_per_step": r.iterations_per_step(),
+                "krylov_iterations": r.krylov_iterations,
+                "newton_iteration_s": r.iteration_s(),
+                "assembly_with_tangent_s": r.assembly_s, "contact_with_blocks_s": r.contact_s,
+                "bare_factor_solve_s": r.bare_factor_solve_s,
+                "iteration_over_factor_solve": r.iteration_over_factor_solve(),
+                "max_shear_deg": r.max_shear_deg, "max_tension_n": r.max_tension_n,
+                "punch_force_n": r.punch_force_n,
+            })
+        };
         let obj = serde_json::json!({
             "law_evals_per_s": rates[0].per_second,
             "element_evals_per_s": rates[1].per_second,
-            "open_box_standard_wall_s": run.wall_s,
-            "open_box_dofs": run.dofs,
-            "open_box_steps": run.steps,
-            "open_box_newton_iterations": run.newton_iterations,
-            "open_box_krylov_iterations": run.krylov_iterations,
-            "newton_iteration_s": run.iteration_s(),
-            "assembly_with_tangent_s": run.assembly_s,
-            "contact_with_blocks_s": run.contact_s,
-            "bare_factor_solve_s": run.bare_factor_solve_s,
-            "iteration_over_factor_solve": run.iteration_over_factor_solve(),
+            "open_box_standard_wall_s": open.wall_s,
+            "open_box_dofs": open.dofs,
+            "open_box_steps": open.steps,
+            "open_box_newton_iterations": open.newton_iterations,
+            "open_box_krylov_iterations": open.krylov_iterations,
+            "newton_iteration_s": open.iteration_s(),
+            "bare_factor_solve_s": open.bare_factor_solve_s,
+            "iteration_over_factor_solve": open.iteration_over_factor_solve(),
+            "tight_box_standard_wall_s": drawings[1].1.wall_s,
+            "open_box_friction_0_05_wall_s": drawings[2].1.wall_s,
+            "drawings": drawings.iter().map(|(n, r)| run_json(n, r)).collect::<Vec<_>>(),
+            "friction_resolution": friction.iter().map(|(n, r)| match r {
+                Ok(r) => run_json(n, r),
+                Err(e) => serde_json::json!({"name": n, "failure": e}),
+            }).collect::<Vec<_>>(),
             "dof_ladder": ladder.iter().map(|(d, w)| serde_json::json!({"dofs": d, "wall_s": w})).collect::<Vec<_>>(),
             "wall_dof_exponent": exponent,
             "sweep_designs_per_min": {"jobs_1": one, "jobs_2": two},
@@ -856,10 +891,7 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
         println!("{obj}");
         return Ok(());
     }
-    println!(
-        "one thread unless stated; medians of {reps} repetitions (the box: of {})",
-        reps.min(5)
-    );
+    println!("one thread unless stated; medians of {reps} repetitions (the drawings: of {box_reps})");
     for r in &rates {
         let lo = r.samples.iter().cloned().fold(f64::INFINITY, f64::min);
         let hi = r.samples.iter().cloned().fold(0.0, f64::max);
@@ -869,30 +901,32 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
         );
     }
     let ms = |s: f64| s * 1e3;
-    let it = run.iteration_s();
+    for (name, run) in &drawings {
+        println!(
+            "{:<48} {:>12.3} s   ({} dofs, {} steps, {} Newton iterations, {:.1} a step; range {:.2} to {:.2} s)",
+            format!("{name}, standard (2.5 mm), whole run"),
+            run.wall_s,
+            run.dofs,
+            run.steps,
+            run.newton_iterations,
+            run.iterations_per_step(),
+            run.samples.iter().cloned().fold(f64::INFINITY, f64::min),
+            run.samples.iter().cloned().fold(0.0, f64::max)
+        );
+    }
     println!(
-        "{:<48} {:>12.3} s   ({} dofs, {} steps, {} Newton iterations; range {:.2} to {:.2} s)",
-        "paper open box, standard (2.5 mm), whole run",
-        run.wall_s,
-        run.dofs,
-        run.steps,
-        run.newton_iterations,
-        run.samples.iter().cloned().fold(f64::INFINITY, f64::min),
-        run.samples.iter().cloned().fold(0.0, f64::max)
-    );
-    println!(
-        "{:<48} {:>12.3} ms  (whole run over its iterations; on the final state: an assembly with the tangent {:.3} ms, of it the contact {:.3} ms; {} GMRES iterations in the run)",
+        "{:<48} {:>12.3} ms  (the open box's run over its iterations; on its final state: an assembly with the tangent {:.3} ms, of it the contact {:.3} ms; {} GMRES iterations in the run)",
         "one Newton iteration",
-        ms(it),
-        ms(run.assembly_s),
-        ms(run.contact_s),
-        run.krylov_iterations
+        ms(open.iteration_s()),
+        ms(open.assembly_s),
+        ms(open.contact_s),
+        open.krylov_iterations
     );
     println!(
         "{:<48} {:>12.2}   (bare factorization + solve of the last tangent: {:.3} ms)",
         "Newton iteration / bare factorization + solve",
-        run.iteration_over_factor_solve(),
-        ms(run.bare_factor_solve_s)
+        open.iteration_over_factor_solve(),
+        ms(open.bare_factor_solve_s)
     );
     let pts: Vec<String> = ladder
         .iter()
@@ -911,5 +945,22 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
         two,
         two / one
     );
+    if !friction.is_empty() {
+        println!("\nfriction's normal force and direction, open box at standard (medians of {}):", box_reps.min(3));
+        println!(
+            "  {:<36} {:>7} {:>6} {:>7} {:>9} {:>10} {:>9} {:>9}",
+            "resolved", "wall s", "steps", "Newton", "GMRES", "force N", "tension N", "shear °"
+        );
+        for (name, run) in &friction {
+            match run {
+                Ok(r) => println!(
+                    "  {name:<36} {:>7.2} {:>6} {:>7} {:>9} {:>10.1} {:>9.1} {:>9.2}",
+                    r.wall_s, r.steps, r.newton_iterations, r.krylov_iterations, r.punch_force_n,
+                    r.max_tension_n, r.max_shear_deg
+                ),
+                Err(e) => println!("  {name:<36} failed: {e}"),
+            }
+        }
+    }
     Ok(())
 }

@@ -74,7 +74,7 @@ impl Default for SolverOptions {
             initial_step: 0.1,
             min_step: 1e-5,
             max_step: 0.5,
-            target_iterations: 10,
+            target_iterations: 12,
             max_steps: 1000,
             max_iterations: 25,
             tol_force: 1e-6,
