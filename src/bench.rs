@@ -207,7 +207,7 @@ pub fn drawing_run(
     let mut samples = Vec::new();
     let mut last = None;
     for _ in 0..repetitions.max(1) {
-        let mut prepared = p.prepare().map_err(|e| e.2.to_string())?;
+        let mut prepared = p.prepare().map_err(|e| e.to_string())?;
         let t = Instant::now();
         let mut solver = Solver::new(&mut prepared.model, p.solver.clone());
         let outcome = solver.solve(&prepared.prescribed, &mut prepared.contact, &mut |_| {
@@ -225,7 +225,11 @@ pub fn drawing_run(
     let x = prepared.model.positions();
     let sym = if prepared.quarter { 4.0 } else { 1.0 };
     let punch_force_n = -sym * contact.tool_force(0, 1.0, &x)[2];
-    let max_tension_n = prepared.model.max_tension_n().into_iter().fold(0.0, f64::max);
+    let max_tension_n = prepared
+        .model
+        .max_tension_n()
+        .into_iter()
+        .fold(0.0, f64::max);
     let max_shear_deg = prepared
         .model
         .shear_angles_deg()
@@ -260,7 +264,6 @@ pub fn drawing_run(
         punch_force_n,
     })
 }
-
 
 /// How friction's normal force and direction are resolved within a load step, compared on the
 /// open box: at the current state with the exact Jacobian (the solver's way), with the

@@ -19,7 +19,11 @@ const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
 /// Bytes as a person reads them: `712 MiB`, `21.3 GiB`, `2.1e4 TiB`.
 pub fn show_bytes(bytes: f64) -> String {
-    let units = [("TiB", GIB * 1024.0), ("GiB", GIB), ("MiB", 1024.0 * 1024.0)];
+    let units = [
+        ("TiB", GIB * 1024.0),
+        ("GiB", GIB),
+        ("MiB", 1024.0 * 1024.0),
+    ];
     for (name, size) in units {
         if bytes >= size {
             let v = bytes / size;

@@ -835,7 +835,8 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
     let mut drawings = Vec::new();
     for (name, problem) in b::cases() {
         note(&format!("the {name} at standard accuracy"));
-        let run = b::drawing_run(&problem, box_reps).map_err(|e| Failure::Run(format!("{name}: {e}")))?;
+        let run =
+            b::drawing_run(&problem, box_reps).map_err(|e| Failure::Run(format!("{name}: {e}")))?;
         drawings.push((name, run));
     }
     note("wall time against dofs (5, 3.5, 2.5, 1.75 mm)");
@@ -891,7 +892,9 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
         println!("{obj}");
         return Ok(());
     }
-    println!("one thread unless stated; medians of {reps} repetitions (the drawings: of {box_reps})");
+    println!(
+        "one thread unless stated; medians of {reps} repetitions (the drawings: of {box_reps})"
+    );
     for r in &rates {
         let lo = r.samples.iter().cloned().fold(f64::INFINITY, f64::min);
         let hi = r.samples.iter().cloned().fold(0.0, f64::max);
@@ -946,7 +949,10 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
         two / one
     );
     if !friction.is_empty() {
-        println!("\nfriction's normal force and direction, open box at standard (medians of {}):", box_reps.min(3));
+        println!(
+            "\nfriction's normal force and direction, open box at standard (medians of {}):",
+            box_reps.min(3)
+        );
         println!(
             "  {:<36} {:>7} {:>6} {:>7} {:>9} {:>10} {:>9} {:>9}",
             "resolved", "wall s", "steps", "Newton", "GMRES", "force N", "tension N", "shear °"
@@ -955,8 +961,13 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
             match run {
                 Ok(r) => println!(
                     "  {name:<36} {:>7.2} {:>6} {:>7} {:>9} {:>10.1} {:>9.1} {:>9.2}",
-                    r.wall_s, r.steps, r.newton_iterations, r.krylov_iterations, r.punch_force_n,
-                    r.max_tension_n, r.max_shear_deg
+                    r.wall_s,
+                    r.steps,
+                    r.newton_iterations,
+                    r.krylov_iterations,
+                    r.punch_force_n,
+                    r.max_tension_n,
+                    r.max_shear_deg
                 ),
                 Err(e) => println!("  {name:<36} failed: {e}"),
             }

@@ -920,7 +920,10 @@ impl Scene {
             p.element_size = h;
             p.size_estimate().bytes <= budget
         };
-        let (mut lo, mut hi) = (problem.element_size, 0.25 * problem.blank[0].min(problem.blank[1]));
+        let (mut lo, mut hi) = (
+            problem.element_size,
+            0.25 * problem.blank[0].min(problem.blank[1]),
+        );
         let advice = if fits(hi) {
             for _ in 0..60 {
                 let mid = (lo * hi).sqrt();
@@ -930,7 +933,10 @@ impl Scene {
                     lo = mid;
                 }
             }
-            format!("expected mesh.element_size ≥ {:.3} mm for this blank", hi * 1.0005)
+            format!(
+                "expected mesh.element_size ≥ {:.3} mm for this blank",
+                hi * 1.0005
+            )
         } else {
             "expected a smaller blank.size".to_string()
         };
@@ -943,7 +949,11 @@ impl Scene {
                 self.mesh.element_size,
                 self.blank.size,
                 size.elements,
-                if problem.quarter_applies() { "a quarter" } else { "the full blank" },
+                if problem.quarter_applies() {
+                    "a quarter"
+                } else {
+                    "the full blank"
+                },
                 show(size.bytes),
                 show(budget),
             ),

@@ -152,7 +152,10 @@ fn node_blocks_are_the_derivative_of_the_forces() {
                 let mut xm = x.clone();
                 xp[i][b] += h;
                 xm[i][b] -= h;
-                let (rp, rm) = (residual(&contact, lambda, &xp), residual(&contact, lambda, &xm));
+                let (rp, rm) = (
+                    residual(&contact, lambda, &xp),
+                    residual(&contact, lambda, &xm),
+                );
                 for a in 0..3 {
                     fd[a][b] = (rp[3 * i + a] - rm[3 * i + a]) / (2.0 * h);
                     worst = worst.max((fd[a][b] - j[a][b]).abs() / scale);
@@ -198,7 +201,10 @@ fn forces_are_the_gradient_of_the_merit_where_it_is_frozen() {
                     / (2.0 * h);
                 worst = worst.max((g - r[3 * i + b]).abs() / scale);
             }
-            println!("μ {mu}, {}: gradient against force, worst {worst:.2e}", case.name);
+            println!(
+                "μ {mu}, {}: gradient against force, worst {worst:.2e}",
+                case.name
+            );
             assert!(worst < 1e-5, "μ {mu}, {}: {worst}", case.name);
         }
     }
@@ -223,19 +229,32 @@ fn friction_is_mu_n_times_the_regularised_slip_direction() {
     };
     for i in [0usize, 1] {
         let n = punch.distance(x[i]).n;
-        let anchor = [cases[i].start[0], cases[i].start[1], cases[i].start[2] - 0.5];
+        let anchor = [
+            cases[i].start[0],
+            cases[i].start[1],
+            cases[i].start[2] - 0.5,
+        ];
         let rel: Vec<f64> = (0..3).map(|m| x[i][m] - anchor[m]).collect();
         let rn: f64 = (0..3).map(|m| rel[m] * n[m]).sum();
-        let slip = (0..3).map(|m| (rel[m] - rn * n[m]).powi(2)).sum::<f64>().sqrt();
+        let slip = (0..3)
+            .map(|m| (rel[m] - rn * n[m]).powi(2))
+            .sum::<f64>()
+            .sqrt();
         let expected = slip / (slip * slip + eps * eps).sqrt();
-        let friction: f64 = (0..3).map(|m| (r[3 * i + m] - r0[3 * i + m]).powi(2)).sum::<f64>().sqrt();
+        let friction: f64 = (0..3)
+            .map(|m| (r[3 * i + m] - r0[3 * i + m]).powi(2))
+            .sum::<f64>()
+            .sqrt();
         let normal: f64 = (0..3).map(|m| r0[3 * i + m].powi(2)).sum::<f64>().sqrt();
         let share = friction / (mu * normal);
         println!(
             "{}: slip {slip:.4} mm, |friction| / μN = {share:.6} (closed form {expected:.6})",
             cases[i].name
         );
-        assert!((share / expected - 1.0).abs() < 1e-9, "{share} vs {expected}");
+        assert!(
+            (share / expected - 1.0).abs() < 1e-9,
+            "{share} vs {expected}"
+        );
     }
 }
 
@@ -253,7 +272,7 @@ fn a_free_blank_needs_almost_no_punch_force_until_the_yarns_go_taut() {
     p.stroke = 6.0;
     p.friction = 0.0;
     p.holder_pressure = 0.0;
-    let mut free = p.build().map_err(|e| e.2).expect("the model builds");
+    let mut free = p.build().expect("the model builds");
     let mut solver = Solver::new(&mut free.model, SolverOptions::default());
     let outcome = solver.solve(&free.prescribed, &mut free.contact, &mut |_| {
         ControlFlow::Continue(())

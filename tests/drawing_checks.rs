@@ -402,7 +402,10 @@ fn a_blank_held_by_nothing_has_no_unique_shape_and_says_so_at_once() {
             "{failure:?}"
         );
         let text = failure.to_string();
-        assert!(text.contains("no unique shape") && text.contains(key), "{text}");
+        assert!(
+            text.contains("no unique shape") && text.contains(key),
+            "{text}"
+        );
     }
 }
 
@@ -434,12 +437,20 @@ fn the_size_estimate_matches_the_model_it_describes() {
     // The estimate a too-large mesh is refused by, against the model actually built: element
     // and dof counts exactly, the Cholesky factor's entries to within 15 % (60 % on the
     // smallest mesh, where the estimate errs on the safe side).
-    for (h, yarn_angle) in [(5.0, 90.0), (2.5, 90.0), (1.25, 90.0), (0.8, 90.0), (0.6, 90.0), (5.0, 80.0), (2.5, 80.0)] {
+    for (h, yarn_angle) in [
+        (5.0, 90.0),
+        (2.5, 90.0),
+        (1.25, 90.0),
+        (0.8, 90.0),
+        (0.6, 90.0),
+        (5.0, 80.0),
+        (2.5, 80.0),
+    ] {
         let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
         p.element_size = h;
         p.yarn_angle_deg = yarn_angle;
         let estimate = p.size_estimate();
-        let prepared = p.prepare().map_err(|e| e.2).unwrap();
+        let prepared = p.prepare().unwrap();
         let model = &prepared.model;
         let factor = model.sparsity().1 as f64;
         println!(

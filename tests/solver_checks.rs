@@ -69,10 +69,7 @@ fn patch_test_on_an_irregular_mesh_gives_the_law_in_every_element() {
     let f = [[1.0 + e1, 0.0, 0.0], [0.0, 1.0 + e2, 0.0], [0.0, 0.0, 1.0]];
     let prescribed = affine_prescribed(&mesh, &boundary, f);
     let mut model = Model::new(mesh, law, &prescribed.dofs).unwrap();
-    let mut solver = Solver::new(
-        &mut model,
-        SolverOptions::default(),
-    );
+    let mut solver = Solver::new(&mut model, SolverOptions::default());
     solver
         .solve(&prescribed, &mut NoNodalTerms, &mut |_| {
             ControlFlow::Continue(())

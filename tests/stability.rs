@@ -36,7 +36,10 @@ fn run(name: &str, p: &DrawingProblem) -> DrawingResult {
         r.stats.steps,
         r.stats.newton_iterations,
         wall_s,
-        r.failure.as_ref().map(|f| f.to_string()).unwrap_or_default()
+        r.failure
+            .as_ref()
+            .map(|f| f.to_string())
+            .unwrap_or_default()
     );
     assert!(finite, "{name}: a non-finite value in the output");
     r
@@ -70,10 +73,7 @@ fn friction_from_0_to_1() {
     let mut p = base();
     p.friction = 0.0;
     let r = run("friction 0", &p);
-    assert!(matches!(
-        r.failure,
-        Some(DrawingFailure::NoUniqueShape(_))
-    ));
+    assert!(matches!(r.failure, Some(DrawingFailure::NoUniqueShape(_))));
     assert_eq!(r.stats.newton_iterations, 0);
     for mu in [0.01, 0.05, 0.5, 1.0] {
         let mut p = base();
@@ -87,10 +87,7 @@ fn holder_pressure_from_0_to_20_mpa() {
     let mut p = base();
     p.holder_pressure = 0.0;
     let r = run("holder pressure 0 MPa", &p);
-    assert!(matches!(
-        r.failure,
-        Some(DrawingFailure::NoUniqueShape(_))
-    ));
+    assert!(matches!(r.failure, Some(DrawingFailure::NoUniqueShape(_))));
     for pressure in [0.01, 5.0, 20.0] {
         let mut p = base();
         p.holder_pressure = pressure;
@@ -135,7 +132,11 @@ fn a_stroke_deeper_than_the_blank_can_follow() {
     p.element_size = 6.0;
     p.stroke = 50.0;
     let r = converges("stroke 50 mm, blank 120 mm", &p);
-    assert!(r.draw_in_mm > 20.0, "the blank was not pulled in: {}", r.draw_in_mm);
+    assert!(
+        r.draw_in_mm > 20.0,
+        "the blank was not pulled in: {}",
+        r.draw_in_mm
+    );
 }
 
 #[test]

@@ -36,7 +36,10 @@ fn tools() -> Vec<(&'static str, Tool)> {
             },
         ),
         ("elliptic die", Tool::elliptic_die([40.0, 25.0], 1.5, 5.0)),
-        ("elliptic die, tall", Tool::elliptic_die([20.0, 35.0], 1.5, 5.0)),
+        (
+            "elliptic die, tall",
+            Tool::elliptic_die([20.0, 35.0], 1.5, 5.0),
+        ),
         ("circular die", Tool::elliptic_die([30.0, 30.0], 1.5, 5.0)),
     ]
 }
@@ -233,7 +236,13 @@ fn elliptic_opening_distance_against_the_nearest_of_many_points() {
     let mut points: Vec<[f64; 2]> = (0..300)
         .map(|_| [g.range(-60.0, 60.0), g.range(-45.0, 45.0)])
         .collect();
-    points.extend([[5.0, 0.0], [0.0, 3.0], [0.0, 0.0], [-30.0, 0.0], [0.0, -40.0]]);
+    points.extend([
+        [5.0, 0.0],
+        [0.0, 3.0],
+        [0.0, 0.0],
+        [-30.0, 0.0],
+        [0.0, -40.0],
+    ]);
     for p in points {
         let nearest = samples
             .iter()

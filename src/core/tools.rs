@@ -115,7 +115,11 @@ fn ellipse_distance(a: f64, b: f64, x: f64, y: f64) -> (f64, [f64; 2]) {
     // Major axis first.
     let swap = a < b;
     let (e0, e1) = if swap { (b, a) } else { (a, b) };
-    let (y0, y1) = if swap { (y.abs(), x.abs()) } else { (x.abs(), y.abs()) };
+    let (y0, y1) = if swap {
+        (y.abs(), x.abs())
+    } else {
+        (x.abs(), y.abs())
+    };
     let (x0, x1) = if y1 > 0.0 && y0 > 0.0 {
         // In the multiplier s = t/e1²: F(s) = (r z0/(s + r))² + (z1/(s + 1))² − 1, r = (e0/e1)².
         let (z0, z1) = (y0 / e0, y1 / e1);

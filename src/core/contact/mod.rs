@@ -270,13 +270,8 @@ impl Contact {
             let f = friction::friction(&c, curvature);
             out.largest = out.largest.max(f.magnitude);
             out.energy += f.energy;
-            out.energy_frozen += friction::potential(
-                mu,
-                c.eps,
-                pair.frozen_force,
-                pair.frozen_normal,
-                rel,
-            );
+            out.energy_frozen +=
+                friction::potential(mu, c.eps, pair.frozen_force, pair.frozen_normal, rel);
             for m in 0..3 {
                 out.residual[m] += f.residual[m];
             }
@@ -478,7 +473,11 @@ impl NodalTerms for Contact {
                     let s = friction::tangential(normal, rel);
                     let len = dot(s, s).sqrt();
                     let keep = (10.0 * eps).min(len);
-                    if len > 0.0 { s.map(|v| v * keep / len) } else { [0.0; 3] }
+                    if len > 0.0 {
+                        s.map(|v| v * keep / len)
+                    } else {
+                        [0.0; 3]
+                    }
                 } else {
                     [0.0; 3]
                 };

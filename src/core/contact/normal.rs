@@ -44,7 +44,11 @@ pub fn law(k: f64, delta: f64, d: f64) -> (f64, f64, f64) {
         (0.0, 0.0, 0.0)
     } else if d >= 0.0 {
         let y = delta - d;
-        (k * y * y / (2.0 * delta), k * y / delta, k * y * y * y / (6.0 * delta))
+        (
+            k * y * y / (2.0 * delta),
+            k * y / delta,
+            k * y * y * y / (6.0 * delta),
+        )
     } else {
         (
             k * (0.5 * delta - d),

@@ -314,27 +314,23 @@ pub struct Prepared {
 
 impl DrawingProblem {
     /// Meshes the blank and builds the model and the contact terms, or says why the problem
-    /// has no answer (with the mesh that was built, for a result to show).
-    pub fn prepare(&self) -> Result<Prepared, (Mesh, Vec<String>, DrawingFailure)> {
+    /// has no answer.
+    pub fn prepare(&self) -> Result<Prepared, DrawingFailure> {
         if let Some(why) = self.unrestrained() {
-            let mesh = self.blank_mesh(self.quarter_applies());
-            return Err((mesh, self.left_out(), DrawingFailure::NoUniqueShape(why)));
+            return Err(DrawingFailure::NoUniqueShape(why));
         }
         self.build()
     }
 
     /// [`DrawingProblem::prepare`] without asking whether the problem has a unique answer: for
     /// checks of the solver on degenerate problems (a blank held by nothing).
-    pub fn build(&self) -> Result<Prepared, (Mesh, Vec<String>, DrawingFailure)> {
+    pub fn build(&self) -> Result<Prepared, DrawingFailure> {
         let quarter = self.quarter_applies();
         let mesh = self.blank_mesh(quarter);
         let left_out = self.left_out();
         let prescribed = symmetry_planes(&mesh, quarter);
         let law = CellLaw::new(self.fabric);
-        let model = match Model::new(mesh.clone(), law, &prescribed.dofs) {
-            Ok(m) => m,
-            Err(e) => return Err((mesh, left_out, DrawingFailure::BadElement(e))),
-        };
+        let model = Model::new(mesh, law, &prescribed.dofs).map_err(DrawingFailure::BadElement)?;
         let contact = self.contact(&model);
         Ok(Prepared {
             model,
@@ -372,9 +368,10 @@ pub fn solve_until(
 ) -> DrawingResult {
     let mut p = match problem.prepare() {
         Ok(p) => p,
-        Err((mesh, left_out, failure)) => {
+        Err(failure) => {
             let quarter = problem.quarter_applies();
-            return failed_early(problem, mesh, quarter, failure, left_out);
+            let mesh = problem.blank_mesh(quarter);
+            return failed_early(problem, mesh, quarter, failure, problem.left_out());
         }
     };
     let dofs = p.model.free_dofs();
@@ -417,12 +414,14 @@ fn collect(
     let die_contact = contact.in_contact(1, lambda, &x);
     let held = contact.holder_force(&x);
     let status = (0..x.len())
-        .map(|i| match (punch_contact[i], die_contact[i], held[i] > 0.0) {
-            (true, _, _) => 1,
-            (false, true, true) => 3,
-            (false, true, false) => 2,
-            _ => 0,
-        })
+        .map(
+            |i| match (punch_contact[i], die_contact[i], held[i] > 0.0) {
+                (true, _, _) => 1,
+                (false, true, true) => 3,
+                (false, true, false) => 2,
+                _ => 0,
+            },
+        )
         .collect();
     let punch_work_nmm = {
         let mut w = 0.0;
@@ -494,7 +493,6 @@ fn edge_draw_in(mesh: &Mesh, x: &[[f64; 3]], quarter: bool) -> f64 {
     }
     best
 }
-
 
 fn failed_early(
     problem: &DrawingProblem,

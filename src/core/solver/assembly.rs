@@ -67,7 +67,9 @@ impl Workspace {
             self.add_element_tangents(model);
         }
         let added = if tangent {
-            self.blocks.iter_mut().for_each(|b| *b = NodeBlock::default());
+            self.blocks
+                .iter_mut()
+                .for_each(|b| *b = NodeBlock::default());
             let added = terms.add(lambda, &self.x, &mut self.f_all, Some(&mut self.blocks));
             self.add_node_blocks(model);
             added

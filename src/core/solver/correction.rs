@@ -146,7 +146,11 @@ fn gmres(model: &mut Model, ws: &Workspace, b: &[f64], x: &mut [f64], tol: f64) 
             col[i] = t;
         }
         let d = (col[k] * col[k] + col[k + 1] * col[k + 1]).sqrt();
-        let (c, s) = if d > 0.0 { (col[k] / d, col[k + 1] / d) } else { (1.0, 0.0) };
+        let (c, s) = if d > 0.0 {
+            (col[k] / d, col[k + 1] / d)
+        } else {
+            (1.0, 0.0)
+        };
         col[k] = d;
         col[k + 1] = 0.0;
         cs.push(c);

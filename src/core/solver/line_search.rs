@@ -47,7 +47,10 @@ pub(super) fn backtrack(
         let tangent = trial == 0 && speculate;
         let a = eval(alpha, tangent);
         let (norm, merit) = if a.admissible {
-            (a.r.iter().map(|v| v * v).sum::<f64>().sqrt(), a.energy_frozen)
+            (
+                a.r.iter().map(|v| v * v).sum::<f64>().sqrt(),
+                a.energy_frozen,
+            )
         } else {
             (f64::INFINITY, f64::INFINITY)
         };

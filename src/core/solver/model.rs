@@ -22,7 +22,11 @@ impl std::fmt::Display for BadElement {
             GeometryError::Degenerate => "it is degenerate or inverted",
             GeometryError::YarnOutOfPlane => "a yarn direction is normal to it",
         };
-        write!(f, "element {} of the initial mesh is unusable: {why}", self.element)
+        write!(
+            f,
+            "element {} of the initial mesh is unusable: {why}",
+            self.element
+        )
     }
 }
 

@@ -117,10 +117,9 @@ impl Solver<'_> {
             history.residuals.push(rn);
             if self.options.record_residuals {
                 let active = self.active_set();
-                let changes = history
-                    .last_active
-                    .as_ref()
-                    .map_or(0, |last| last.iter().zip(&active).filter(|(a, b)| a != b).count());
+                let changes = history.last_active.as_ref().map_or(0, |last| {
+                    last.iter().zip(&active).filter(|(a, b)| a != b).count()
+                });
                 history.changes.push(changes as u32);
                 history.last_active = Some(active);
             }

@@ -3,9 +3,9 @@
 
 use std::ops::ControlFlow;
 
+use super::Solver;
 use super::newton::{History, NewtonError};
 use super::terms::{NodalTerms, Prescribed};
-use super::Solver;
 
 /// Why a run stopped short.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,7 +82,12 @@ impl Solver<'_> {
             let u_start = self.model.u.clone();
             let crimp_start = self.model.crimp.clone();
             terms.begin_step(lambda, target, &self.model.positions());
-            self.predict(target, previous.as_ref().map(|(dl, du)| ((target - lambda) / dl, du)));
+            self.predict(
+                target,
+                previous
+                    .as_ref()
+                    .map(|(dl, du)| ((target - lambda) / dl, du)),
+            );
             self.apply_prescribed(target, prescribed);
             if self.options.project_predictor {
                 let mut x = self.model.positions();
@@ -108,8 +113,13 @@ impl Solver<'_> {
             }
             match outcome {
                 Ok(iterations) => {
-                    let du: Vec<f64> =
-                        self.model.u.iter().zip(&u_start).map(|(a, b)| a - b).collect();
+                    let du: Vec<f64> = self
+                        .model
+                        .u
+                        .iter()
+                        .zip(&u_start)
+                        .map(|(a, b)| a - b)
+                        .collect();
                     self.account_unbalanced_work(target, &*terms, &du);
                     terms.end_step(target, &self.model.positions());
                     previous = Some((target - lambda, du));
@@ -185,15 +195,12 @@ impl Solver<'_> {
     fn account_unbalanced_work(&mut self, lambda: f64, terms: &dyn NodalTerms, du: &[f64]) {
         let a = self.ws.assemble(self.model, lambda, terms, false);
         let m = &*self.model;
-        let w: f64 = m
-            .eq
-            .iter()
-            .enumerate()
-            .filter(|(_, q)| **q != usize::MAX)
-            .map(|(d, &q)| a.r[q] * du[d])
-            .sum();
+        let w: f64 =
+            m.eq.iter()
+                .enumerate()
+                .filter(|(_, q)| **q != usize::MAX)
+                .map(|(d, &q)| a.r[q] * du[d])
+                .sum();
         self.stats.unbalanced_work += w.abs();
     }
 }
-
-

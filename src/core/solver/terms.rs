@@ -26,7 +26,8 @@ impl NodeBlock {
     }
 
     pub fn is_zero(&self) -> bool {
-        self.rest.iter().flatten().all(|v| *v == 0.0) && self.spd.iter().flatten().all(|v| *v == 0.0)
+        self.rest.iter().flatten().all(|v| *v == 0.0)
+            && self.spd.iter().flatten().all(|v| *v == 0.0)
     }
 }
 
