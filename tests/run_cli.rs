@@ -352,7 +352,9 @@ fn an_accuracy_level_sets_the_mesh_and_reports_its_error() {
     assert!(out.status.success(), "{}", common::text(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["accuracy"], "coarse");
-    assert_eq!(v["max_shear_err_deg"], 4.0);
+    let level = wovenform::accuracy::Accuracy::Coarse.error();
+    assert_eq!(v["max_shear_err_deg"], level.max_shear_deg);
+    assert_eq!(v["punch_force_err_pct"], level.punch_force_pct);
     assert_eq!(v["inputs"]["mesh"]["element_size"], 5.0);
     assert!(v["wall_s"].as_f64().unwrap() > 0.0);
     let bad = common::wovenform_in(
