@@ -171,6 +171,83 @@ fn node_blocks_are_the_derivative_of_the_forces() {
     }
 }
 
+#[test]
+fn blocks_hold_in_the_corner_blend_of_a_box_punch() {
+    // A punch whose corner radius (5 mm) is below its nose radius (15 mm): the corner is a
+    // blend whose field is not a true distance (|∇d| ≠ 1). Friction projects with the unit
+    // normal there; its derivative must still be the forces'.
+    let punch = Tool::box_punch([60.0, 60.0], 5.0, 15.0, 0.0);
+    let tools = vec![ToolMotion {
+        tool: punch,
+        tip_start: 0.0,
+        stroke: 10.0,
+    }];
+    // Points on the corner's blend, pressed 3 µm in (placed by Newton along the gradient).
+    let on_blend = |x: f64, y: f64, z: f64| {
+        let tool = punch.at_tip(-3.0);
+        let mut p = [x, y, z];
+        for _ in 0..20 {
+            let d = tool.distance(p);
+            let g2: f64 = d.n.iter().map(|v| v * v).sum();
+            for m in 0..3 {
+                p[m] -= (d.d + 0.003) * d.n[m] / g2;
+            }
+        }
+        let d = tool.distance(p);
+        (p, d.n.iter().map(|v| v * v).sum::<f64>().sqrt())
+    };
+    let (p1, g1) = on_blend(27.0, 26.0, 3.0);
+    let (p2, g2) = on_blend(28.5, 22.0, 1.0);
+    println!("gradient lengths in the blend: {g1:.3}, {g2:.3}");
+    assert!(
+        (g1 - 1.0).abs() > 0.01 || (g2 - 1.0).abs() > 0.01,
+        "not in the blend"
+    );
+    let n = 2;
+    let mut contact = Contact::new(
+        tools,
+        None,
+        ContactOptions {
+            friction: 0.2,
+            slip_regularisation: 0.025,
+            penalty_factor: 1.0,
+            contact_smoothing: 0.025,
+            lagged: false,
+        },
+        vec![6.25; n],
+        &vec![K; n],
+        1.0,
+        5.0,
+    );
+    let start = [
+        [p1[0] + 0.4, p1[1] - 0.2, p1[2] + 0.6],
+        [p2[0] - 0.3, p2[1] + 0.5, p2[2] + 0.5],
+    ];
+    contact.begin_step(0.25, 0.3, &start);
+    let x = vec![p1, p2];
+    let mut r = vec![0.0; 3 * n];
+    let mut blocks = vec![NodeBlock::default(); n];
+    contact.add(0.3, &x, &mut r, Some(&mut blocks)).unwrap();
+    for i in 0..n {
+        let j = blocks[i].total();
+        let scale = j.iter().flatten().fold(1.0f64, |m, v| m.max(v.abs()));
+        let h = 1e-6;
+        let mut worst = 0.0f64;
+        for b in 0..3 {
+            let (mut xp, mut xm) = (x.clone(), x.clone());
+            xp[i][b] += h;
+            xm[i][b] -= h;
+            let (rp, rm) = (residual(&contact, 0.3, &xp), residual(&contact, 0.3, &xm));
+            for a in 0..3 {
+                let fd = (rp[3 * i + a] - rm[3 * i + a]) / (2.0 * h);
+                worst = worst.max((fd - j[a][b]).abs() / scale);
+            }
+        }
+        println!("blend node {i}: worst relative error {worst:.2e}");
+        assert!(worst < 1e-5, "node {i}: {worst}");
+    }
+}
+
 /// The merit the line search uses along a correction from `x` (frozen there).
 fn frozen_merit(contact: &Contact, lambda: f64, x: &[[f64; 3]]) -> f64 {
     let mut r = vec![0.0; 3 * x.len()];

@@ -73,7 +73,7 @@ impl RoundedRect {
 }
 
 /// An ellipse centred at the origin with semi-axes `ax, ay`, offset outward by `offset`: the
-/// exact signed distance (a 1D Newton solve on the ellipse's parameter).
+/// exact signed distance (see `ellipse_distance`; a circle directly).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OffsetEllipse {
     pub ax: f64,
@@ -121,29 +121,30 @@ fn ellipse_distance(a: f64, b: f64, x: f64, y: f64) -> (f64, [f64; 2]) {
         (x.abs(), y.abs())
     };
     let (x0, x1) = if y1 > 0.0 && y0 > 0.0 {
-        // In the multiplier s = t/e1²: F(s) = (r z0/(s + r))² + (z1/(s + 1))² − 1, r = (e0/e1)².
+        // In σ = 1 + t/e1² (σ, not t/e1², keeps its digits near the major axis, where t/e1² is
+        // near −1): F(σ) = (r z0/(σ − 1 + r))² + (z1/σ)² − 1, r = (e0/e1)², from σ = z1.
         let (z0, z1) = (y0 / e0, y1 / e1);
         let r = (e0 / e1).powi(2);
-        let f = |s: f64| {
-            let (u, v) = (r * z0 / (s + r), z1 / (s + 1.0));
+        let f = |sigma: f64| {
+            let (u, v) = (r * z0 / (sigma - 1.0 + r), z1 / sigma);
             let value = u * u + v * v - 1.0;
-            let slope = -2.0 * (u * u / (s + r) + v * v / (s + 1.0));
+            let slope = -2.0 * (u * u / (sigma - 1.0 + r) + v * v / sigma);
             (value, slope)
         };
-        let mut s = z1 - 1.0;
+        let mut sigma = z1;
         for _ in 0..64 {
-            let (value, slope) = f(s);
+            let (value, slope) = f(sigma);
             if value <= 0.0 || slope >= 0.0 {
                 break;
             }
-            let next = s - value / slope;
-            if next - s <= 1e-15 * (1.0 + s.abs()) {
-                s = next;
+            let next = sigma - value / slope;
+            if next - sigma <= 1e-15 * sigma.abs().max(1e-300) {
+                sigma = next;
                 break;
             }
-            s = next;
+            sigma = next;
         }
-        (r * y0 / (s + r), y1 / (s + 1.0))
+        (r * y0 / (sigma - 1.0 + r), y1 / sigma)
     } else if y1 > 0.0 {
         (0.0, e1)
     } else {

@@ -140,7 +140,7 @@ impl RunSummary {
             steps: result.stats.steps,
             cutbacks: result.stats.cutbacks,
             newton_iterations: result.stats.newton_iterations,
-            stabilisation_work_share: result.stabilisation_work_share,
+            stabilisation_work_share: result.unbalanced_work_share,
             unsound,
             mechanism: result.stats.mechanism,
             left_out: result.left_out.clone(),

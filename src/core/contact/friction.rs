@@ -1,7 +1,9 @@
 //! Regularised Coulomb friction whose normal force and normal are those of the current state.
 //!
 //! A node in contact with a tool has a friction anchor `a` (where it stood at the step's start,
-//! less the elastic slip it carried over, moving with the tool). Its slip is the part of
+//! less the elastic slip it carried over, moving with the tool). A node that first touches the
+//! tool within a step counts what it moved since the step's start as slip, and so carries
+//! `μN` at once: an approximation of the order of the step. Its slip is the part of
 //! `rel = x − a` in the tool's tangent plane, `s = P rel` with `P = I − n nᵀ`, and the friction
 //! force on it is `−μ N s / ρ`, `ρ = sqrt(|s|² + ε²)`: full sliding carries `μ N`, and `ε` is the
 //! slip that mobilises it. `N(x)`, `n(x)` are the normal force and normal at the node's current
@@ -12,7 +14,7 @@
 //!
 //! ```text
 //!   μ N G P                                   symmetric, positive semi-definite
-//! + μ (s/ρ) ⊗ ∇N − μ N G ((n·rel) H + n ⊗ H rel)    the rest: not symmetric
+//! + μ (s/ρ) ⊗ ∇N − μ N G ((n·rel) H + n ⊗ Hᵀ rel)   the rest: not symmetric
 //! ```
 //!
 //! For the line search, the potential `μ N̂ (sqrt(|P̂ rel|² + ε²) − ε)` with `N̂`, `n̂` frozen at
@@ -67,6 +69,10 @@ pub fn potential(mu: f64, eps: f64, normal_force: f64, n: [f64; 3], rel: [f64; 3
 pub fn friction(c: &Contact, curvature: Option<&[[f64; 3]; 3]>) -> Friction {
     let s = tangential(c.n, c.rel);
     let rho = (dot(s, s) + c.eps * c.eps).sqrt();
+    if rho == 0.0 {
+        // No slip and no regularisation: nothing to oppose yet.
+        return Friction::default();
+    }
     let mu_n = c.mu * c.normal_force;
     let mut out = Friction {
         residual: [mu_n * s[0] / rho, mu_n * s[1] / rho, mu_n * s[2] / rho],
@@ -79,14 +85,15 @@ pub fn friction(c: &Contact, curvature: Option<&[[f64; 3]; 3]>) -> Friction {
     };
     let n = c.n;
     let rn = dot(c.rel, n);
-    let h_rel = [0, 1, 2].map(|a| dot(h[a], c.rel));
+    // Hᵀ rel (H = ∇n need not be symmetric: the unit normal of a field that is not a distance).
+    let h_rel = [0, 1, 2].map(|b| (0..3).map(|j| h[j][b] * c.rel[j]).sum::<f64>());
     // G = (I − s sᵀ/ρ²)/ρ.
     let g = |a: usize, b: usize| ((a == b) as u8 as f64 - s[a] * s[b] / (rho * rho)) / rho;
     for a in 0..3 {
         for b in 0..3 {
             let p_ab = (a == b) as u8 as f64 - n[a] * n[b];
             out.spd[a][b] = mu_n * (p_ab - s[a] * s[b] / (rho * rho)) / rho;
-            // ∂s/∂x − P = −(n·rel) H − n ⊗ (H rel).
+            // ∂s/∂x − P = −(n·rel) H − n ⊗ (Hᵀ rel).
             let mut gq = 0.0;
             for k in 0..3 {
                 gq += g(a, k) * (-rn * h[k][b] - n[k] * h_rel[b]);

@@ -25,6 +25,10 @@ impl Holder {
         let Some((d_open, g, rm)) = self.die.opening_distance(x, y) else {
             return (0.0, [0.0; 2]);
         };
+        if self.band <= 0.0 {
+            // No band: the holder grips the flange outside the entry radius, and nothing else.
+            return (if d_open > rm { 1.0 } else { 0.0 }, [0.0; 2]);
+        }
         let t = (d_open - rm) / self.band;
         if t <= 0.0 {
             return (0.0, [0.0; 2]);
@@ -36,8 +40,8 @@ impl Holder {
         (t * t * (3.0 - 2.0 * t), [ds * g[0], ds * g[1]])
     }
 
-    /// Whether a node at plan distance `d_open` from the opening can be held during a step:
-    /// on the flange or within one band of it.
+    /// Whether a node at `(x, y)` can be held during a step: on the flange or within one band
+    /// of it.
     pub fn may_hold(&self, x: f64, y: f64) -> bool {
         self.die
             .opening_distance(x, y)

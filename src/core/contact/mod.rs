@@ -74,9 +74,10 @@ struct Pair {
     carried: [f64; 3],
     /// Signed distance at the step's start, mm.
     d_start: f64,
-    /// Normal force and normal frozen by [`NodalTerms::freeze`].
-    frozen_force: f64,
-    frozen_normal: [f64; 3],
+    /// Friction's normal force and unit normal taken at the Newton iterate by
+    /// [`NodalTerms::freeze`] (the line search's merit), or lagged (`ContactOptions::lagged`).
+    lag_force: f64,
+    lag_normal: [f64; 3],
 }
 
 /// The contact terms of a drawing: tools, friction and holder, for every node of the blank.
@@ -104,6 +105,33 @@ pub struct Contact {
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The unit normal `n̂ = n/|n|` of a distance gradient `n`, and with the curvature `H = ∇n`
+/// also `∇n̂ = (I − n̂ n̂ᵀ) H/|n|`. The gradient is a unit vector wherever the tool's field is a
+/// true distance; in a punch's variable-radius corner blend it is not, and friction must project
+/// on the tangent plane with a unit normal.
+fn unit_normal(n: [f64; 3], h: Option<&[[f64; 3]; 3]>) -> ([f64; 3], Option<[[f64; 3]; 3]>) {
+    let len = dot(n, n).sqrt();
+    if len == 0.0 {
+        return (n, h.copied());
+    }
+    let u = n.map(|v| v / len);
+    let dh = h.map(|h| {
+        let mut out = [[0.0; 3]; 3];
+        for a in 0..3 {
+            for b in 0..3 {
+                let mut v = 0.0;
+                for c in 0..3 {
+                    let p_ac = (a == c) as u8 as f64 - u[a] * u[c];
+                    v += p_ac * h[c][b];
+                }
+                out[a][b] = v / len;
+            }
+        }
+        out
+    });
+    (u, dh)
 }
 
 fn add_into(m: &mut [[f64; 3]; 3], a: &[[f64; 3]; 3]) {
@@ -218,26 +246,28 @@ impl Contact {
     /// Node `i`'s terms with tool `t` at `p`: penalty and friction.
     fn node_tool(&self, i: usize, t: usize, lambda: f64, p: [f64; 3], tangent: bool) -> Terms {
         let tool = self.tools[t].at(lambda);
-        let k = self.penalty[i];
-        let delta = self.options.contact_smoothing;
         let dist = tool.distance(p);
-        let (held, held_gradient) = self.holder_normal(t, i, p);
-        let (pressed, stiffness, _) = normal::law(k, delta, dist.d);
-        let lagged = self.options.lagged;
         let pair = &self.pairs[t * self.nodes() + i];
-        let normal_force = if lagged {
-            pair.frozen_force
+        let (mu, eps) = (self.options.friction, self.options.slip_regularisation);
+        let mut out = Terms::default();
+        // The merit's friction, frozen at the Newton iterate, counts wherever the trial lies.
+        if mu > 0.0 && pair.lag_force > 0.0 {
+            let rel = self.relative(t, i, lambda, p);
+            out.energy_frozen += friction::potential(mu, eps, pair.lag_force, pair.lag_normal, rel);
+        }
+        let (k, delta) = (self.penalty[i], self.options.contact_smoothing);
+        let (pressed, stiffness, _) = normal::law(k, delta, dist.d);
+        let (held, held_gradient) = self.holder_normal(t, i, p);
+        let normal_force = if self.options.lagged {
+            pair.lag_force
         } else {
             pressed + held
         };
-        let mu = self.options.friction;
         let rubbing = mu > 0.0 && normal_force > 0.0;
-        let mut out = Terms::default();
         if dist.d >= delta && !rubbing {
             return out;
         }
-        let h = (tangent && (pressed > 0.0 || (rubbing && !lagged)))
-            .then(|| tool.curvature(p, self.reach));
+        let h = tangent.then(|| tool.curvature(p, self.reach));
         if let Some(pen) = normal::penalty(k, delta, dist.d, dist.n, h.as_ref()) {
             out.largest = pen.force;
             out.energy += pen.energy;
@@ -247,31 +277,28 @@ impl Contact {
             out.block.rest = pen.rest;
         }
         if rubbing {
+            // ∇N: the penalty's stiffness along the normal, and the holder's weight in the plane.
             let mut gradient = held_gradient;
             for m in 0..3 {
                 gradient[m] -= stiffness * dist.n[m];
             }
-            let a = self.anchor(t, i, lambda);
-            let rel = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+            let (n, h) = unit_normal(dist.n, h.as_ref());
+            let at = if self.options.lagged {
+                (pair.lag_normal, [0.0; 3], tangent.then_some([[0.0; 3]; 3]))
+            } else {
+                (n, gradient, h)
+            };
             let c = friction::Contact {
                 mu,
-                eps: self.options.slip_regularisation,
+                eps,
                 normal_force,
-                normal_force_gradient: if lagged { [0.0; 3] } else { gradient },
-                n: if lagged { pair.frozen_normal } else { dist.n },
-                rel,
+                normal_force_gradient: at.1,
+                n: at.0,
+                rel: self.relative(t, i, lambda, p),
             };
-            const FLAT: [[f64; 3]; 3] = [[0.0; 3]; 3];
-            let curvature = if lagged {
-                tangent.then_some(&FLAT)
-            } else {
-                h.as_ref()
-            };
-            let f = friction::friction(&c, curvature);
+            let f = friction::friction(&c, at.2.as_ref());
             out.largest = out.largest.max(f.magnitude);
             out.energy += f.energy;
-            out.energy_frozen +=
-                friction::potential(mu, c.eps, pair.frozen_force, pair.frozen_normal, rel);
             for m in 0..3 {
                 out.residual[m] += f.residual[m];
             }
@@ -279,6 +306,12 @@ impl Contact {
             add_into(&mut out.block.rest, &f.rest);
         }
         out
+    }
+
+    /// `x − a`: node `i`'s position `p` from its friction anchor against tool `t` at `lambda`.
+    fn relative(&self, t: usize, i: usize, lambda: f64, p: [f64; 3]) -> [f64; 3] {
+        let a = self.anchor(t, i, lambda);
+        [p[0] - a[0], p[1] - a[1], p[2] - a[2]]
     }
 
     /// Takes friction's normal force and normal and the holder's weights at `x`.
@@ -289,8 +322,8 @@ impl Contact {
                 let i = self.active[t][k] as usize;
                 let (f, normal) = self.friction_normal(t, i, lambda, x[i]);
                 let pair = &mut self.pairs[t * n + i];
-                pair.frozen_force = f;
-                pair.frozen_normal = normal;
+                pair.lag_force = f;
+                pair.lag_normal = normal;
             }
         }
         if let Some(h) = self.holder {
@@ -301,12 +334,12 @@ impl Contact {
         }
     }
 
-    /// The friction normal force and normal of node `i` against tool `t` at `p`.
+    /// The friction normal force and unit normal of node `i` against tool `t` at `p`.
     fn friction_normal(&self, t: usize, i: usize, lambda: f64, p: [f64; 3]) -> (f64, [f64; 3]) {
         let dist = self.tools[t].at(lambda).distance(p);
         let held = self.holder_normal(t, i, p).0;
         let pressed = normal::law(self.penalty[i], self.options.contact_smoothing, dist.d).0;
-        (pressed + held, dist.n)
+        (pressed + held, unit_normal(dist.n, None).0)
     }
 }
 
@@ -466,7 +499,12 @@ impl NodalTerms for Contact {
         let eps = self.options.slip_regularisation;
         for t in 0..self.tools.len() {
             for i in 0..n {
-                let (normal_force, normal) = self.friction_normal(t, i, lambda, x[i]);
+                let (normal_force, normal) = if self.options.lagged {
+                    let pair = &self.pairs[t * n + i];
+                    (pair.lag_force, pair.lag_normal)
+                } else {
+                    self.friction_normal(t, i, lambda, x[i])
+                };
                 let carried = if normal_force > 0.0 {
                     let a = self.anchor(t, i, lambda);
                     let rel = [x[i][0] - a[0], x[i][1] - a[1], x[i][2] - a[2]];

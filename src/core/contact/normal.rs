@@ -25,8 +25,6 @@
 pub struct Penalty {
     /// The pressing force `p`, N.
     pub force: f64,
-    /// `φ''(d)`, N/mm.
-    pub stiffness: f64,
     /// Added to the residual, N.
     pub residual: [f64; 3],
     /// `φ(d)`, N·mm.
@@ -73,7 +71,6 @@ pub fn penalty(
     let (p, stiffness, energy) = law(k, delta, d);
     let mut out = Penalty {
         force: p,
-        stiffness,
         residual: [-p * n[0], -p * n[1], -p * n[2]],
         energy,
         ..Default::default()

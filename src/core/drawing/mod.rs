@@ -3,6 +3,7 @@
 //! and yarns are symmetric about both axes), builds the contact terms, drives the punch to full
 //! stroke and returns a [`DrawingResult`] with the fields and figures a user checks.
 
+mod collect;
 mod failure;
 mod result;
 mod size;
@@ -16,7 +17,7 @@ use std::ops::ControlFlow;
 use super::contact::{Contact, ContactOptions, Holder, ToolMotion};
 use super::law::{CellLaw, CellParams};
 use super::mesh::Mesh;
-use super::solver::{LinearPrescribed, Model, SolveStats, Solver, SolverOptions};
+use super::solver::{LinearPrescribed, Model, Solver, SolverOptions};
 use super::tools::Tool;
 
 /// The punch and die pair.
@@ -371,159 +372,16 @@ pub fn solve_until(
         Err(failure) => {
             let quarter = problem.quarter_applies();
             let mesh = problem.blank_mesh(quarter);
-            return failed_early(problem, mesh, quarter, failure, problem.left_out());
+            return collect::failed_early(problem, mesh, quarter, failure, problem.left_out());
         }
     };
     let dofs = p.model.free_dofs();
     let mut solver = Solver::new(&mut p.model, problem.solver.clone());
     let outcome = solver.solve(&p.prescribed, &mut p.contact, progress);
     let stats = solver.stats.clone();
-    let mut result = collect(problem, &p.model, &p.contact, p.quarter, stats, p.left_out);
+    let mut result = collect::collect(problem, &p.model, &p.contact, p.quarter, stats, p.left_out);
     result.dofs = dofs;
     result.converged = outcome.is_ok();
     result.failure = outcome.err().map(DrawingFailure::Solver);
     result
-}
-
-/// The fields and figures of the model's final state.
-fn collect(
-    problem: &DrawingProblem,
-    model: &Model,
-    contact: &Contact,
-    quarter: bool,
-    stats: SolveStats,
-    left_out: Vec<String>,
-) -> DrawingResult {
-    let lambda = stats.lambda;
-    let x = model.positions();
-    let sym = if quarter { 4.0 } else { 1.0 };
-    let punch_force_n = -sym * contact.tool_force(0, lambda, &x)[2];
-    let force_history: Vec<(f64, f64)> = contact
-        .punch_history
-        .iter()
-        .map(|(l, f)| (l * problem.stroke, -sym * f))
-        .collect();
-    let outputs = model.element_outputs();
-    let mean = |a: usize| -> Vec<f64> {
-        outputs
-            .iter()
-            .map(|o| o.tension.iter().map(|t| t[a]).sum::<f64>() / 4.0)
-            .collect()
-    };
-    let punch_contact = contact.in_contact(0, lambda, &x);
-    let die_contact = contact.in_contact(1, lambda, &x);
-    let held = contact.holder_force(&x);
-    let status = (0..x.len())
-        .map(
-            |i| match (punch_contact[i], die_contact[i], held[i] > 0.0) {
-                (true, _, _) => 1,
-                (false, true, true) => 3,
-                (false, true, false) => 2,
-                _ => 0,
-            },
-        )
-        .collect();
-    let punch_work_nmm = {
-        let mut w = 0.0;
-        let mut last = (0.0, 0.0);
-        for &(z, f) in &force_history {
-            w += 0.5 * (f + last.1) * (z - last.0);
-            last = (z, f);
-        }
-        w
-    };
-    let stabilisation_work_share = if punch_work_nmm > 0.0 {
-        sym * stats.unbalanced_work / punch_work_nmm
-    } else {
-        0.0
-    };
-    DrawingResult {
-        converged: true,
-        failure: None,
-        quarter,
-        element_size_mm: problem.element_size,
-        shear_deg: model.shear_angles_deg(),
-        t11_n: mean(0),
-        t22_n: mean(1),
-        tension_max_n: model.max_tension_n(),
-        contact: status,
-        stroke_reached_mm: lambda * problem.stroke,
-        punch_force_n,
-        force_history,
-        penetration_mm: contact.max_penetration(lambda, &x),
-        draw_in_mm: edge_draw_in(&model.mesh, &x, quarter),
-        dofs: model.free_dofs(),
-        stats,
-        punch_work_nmm,
-        stabilisation_work_share,
-        left_out,
-        positions: x,
-        mesh: model.mesh.clone(),
-    }
-}
-
-/// The largest inward plan displacement of a node on the blank's outer edge, mm.
-fn edge_draw_in(mesh: &Mesh, x: &[[f64; 3]], quarter: bool) -> f64 {
-    let (mut xmax, mut ymax, mut xmin, mut ymin) = (f64::MIN, f64::MIN, f64::MAX, f64::MAX);
-    for p in &mesh.nodes {
-        xmax = xmax.max(p[0]);
-        ymax = ymax.max(p[1]);
-        xmin = xmin.min(p[0]);
-        ymin = ymin.min(p[1]);
-    }
-    let tol = 1e-9 * (xmax - xmin).abs().max(1.0);
-    let mut best = 0.0f64;
-    for (p0, p) in mesh.nodes.iter().zip(x) {
-        let on_xmax = (p0[0] - xmax).abs() < tol;
-        let on_ymax = (p0[1] - ymax).abs() < tol;
-        let on_xmin = !quarter && (p0[0] - xmin).abs() < tol;
-        let on_ymin = !quarter && (p0[1] - ymin).abs() < tol;
-        if on_xmax {
-            best = best.max(p0[0] - p[0]);
-        }
-        if on_ymax {
-            best = best.max(p0[1] - p[1]);
-        }
-        if on_xmin {
-            best = best.max(p[0] - p0[0]);
-        }
-        if on_ymin {
-            best = best.max(p[1] - p0[1]);
-        }
-    }
-    best
-}
-
-fn failed_early(
-    problem: &DrawingProblem,
-    mesh: Mesh,
-    quarter: bool,
-    failure: DrawingFailure,
-    left_out: Vec<String>,
-) -> DrawingResult {
-    let ne = mesh.quads.len();
-    let nn = mesh.nodes.len();
-    DrawingResult {
-        converged: false,
-        failure: Some(failure),
-        quarter,
-        element_size_mm: problem.element_size,
-        positions: mesh.nodes.clone(),
-        shear_deg: vec![0.0; ne],
-        t11_n: vec![0.0; ne],
-        t22_n: vec![0.0; ne],
-        tension_max_n: vec![0.0; ne],
-        contact: vec![0; nn],
-        stroke_reached_mm: 0.0,
-        punch_force_n: 0.0,
-        force_history: Vec::new(),
-        penetration_mm: 0.0,
-        draw_in_mm: 0.0,
-        dofs: 0,
-        stats: SolveStats::default(),
-        punch_work_nmm: 0.0,
-        stabilisation_work_share: 0.0,
-        left_out,
-        mesh,
-    }
 }

@@ -77,10 +77,11 @@ pub struct DrawingResult {
     pub stats: SolveStats,
     /// Work of the punch on the blank (the force history integrated over the stroke), N·mm.
     pub punch_work_nmm: f64,
-    /// Work done by forces out of balance over the punch's work: what of the punch's work is
-    /// not the paper's model. The stabilisation acts on the Newton corrections only, so a
-    /// converged state carries none of it; what is left is the residual within the tolerance.
-    pub stabilisation_work_share: f64,
+    /// Work done by forces out of balance at the converged steps over the punch's work: what of
+    /// the punch's work is not the paper's model. The stabilisation acts on the Newton
+    /// corrections only, so a converged state carries none of it; what is left is the residual
+    /// within the tolerance. (`run --json` calls it `stabilisation_work_share`.)
+    pub unbalanced_work_share: f64,
     /// Terms the scene did not need and that were not built.
     pub left_out: Vec<String>,
 }
@@ -139,9 +140,9 @@ impl DrawingResult {
                 limit_mm,
             });
         }
-        if self.stabilisation_work_share > UNBALANCED_WORK_LIMIT {
+        if self.unbalanced_work_share > UNBALANCED_WORK_LIMIT {
             why.push(Unsound::Unbalanced {
-                share: self.stabilisation_work_share,
+                share: self.unbalanced_work_share,
                 limit: UNBALANCED_WORK_LIMIT,
             });
         }

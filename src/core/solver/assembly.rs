@@ -28,7 +28,8 @@ pub(super) struct Workspace {
     pub values: Vec<f64>,
     /// The nodal terms' blocks of the last tangent assembly, per node.
     pub blocks: Vec<NodeBlock>,
-    /// The nodes whose `rest` block is not zero, with that block (free dofs only kept).
+    /// The nodes whose `rest` block is not zero, with that block (its rows and columns of
+    /// prescribed dofs are skipped where it is applied).
     pub rest: Vec<(usize, [[f64; 3]; 3])>,
     pub x: Vec<[f64; 3]>,
     f_all: Vec<f64>,
@@ -123,16 +124,7 @@ impl Workspace {
                 }
             }
             if b.rest.iter().flatten().any(|v| *v != 0.0) {
-                let mut rest = b.rest;
-                for a in 0..3 {
-                    for c in 0..3 {
-                        if model.eq[3 * nd + a] == usize::MAX || model.eq[3 * nd + c] == usize::MAX
-                        {
-                            rest[a][c] = 0.0;
-                        }
-                    }
-                }
-                self.rest.push((nd, rest));
+                self.rest.push((nd, b.rest));
             }
         }
     }

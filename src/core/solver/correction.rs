@@ -2,10 +2,13 @@
 //! symmetric tangent held by the sparse Cholesky factorization and `rest(B)` the nodal terms'
 //! non-symmetric remainder (friction that follows the normal force, the tools' curvature).
 //!
-//! When the remainder is empty the factorization solves the system exactly. Otherwise GMRES,
+//! When the remainder is empty the factorization solves the system. Otherwise GMRES,
 //! right-preconditioned by the factorization and started from its solution, takes the rest: the
 //! preconditioned operator is the identity plus a perturbation of the size of μ, so a few
-//! iterations reach the forcing tolerance, and the correction is the exact Newton one.
+//! iterations reach the forcing tolerance. The correction is then Newton's (of the damped
+//! tangent), unless the tangent had to be shifted to factorize (a mechanism: the shifted
+//! factorization's correction is kept), GMRES reached its 30 iterations, or its correction would
+//! not descend (the factorization's is kept).
 
 use super::assembly::Workspace;
 use super::model::Model;
@@ -58,7 +61,7 @@ pub(super) fn solve(
     let mut left = vec![0.0; du.len()];
     add_rest(model, ws, &du, &mut left);
     let norm_r = norm(r);
-    if norm(&left) > forcing * norm_r {
+    if info.shift == 0.0 && norm(&left) > forcing * norm_r {
         let b: Vec<f64> = r.iter().map(|v| -v).collect();
         let mut x = du.clone();
         krylov_iterations = gmres(model, ws, &b, &mut x, forcing);

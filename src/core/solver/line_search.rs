@@ -33,9 +33,9 @@ pub(super) struct Accepted {
 const MAX_TRIALS: u32 = 16;
 
 /// Searches along the correction; `eval(α, tangent)` sets the state to `base + α Δu` and
-/// assembles it. `speculate`: assemble the first (full) trial with its tangent. Returns `None`
-/// when no trial is acceptable and none even came close (residual under 10× the base's); the
-/// state is then at the best trial.
+/// assembles it. `speculate`: assemble the first (full) trial with its tangent. When no trial
+/// is acceptable the state is set to the best one if its residual is under 10× the base's;
+/// otherwise `None` is returned (the state is then at the last trial; the caller restores it).
 pub(super) fn backtrack(
     base: &Base,
     speculate: bool,

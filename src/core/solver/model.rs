@@ -77,6 +77,61 @@ fn number_equations(ndof: usize, prescribed_dofs: &[usize]) -> (Vec<usize>, usiz
     (eq, n)
 }
 
+/// The global dof of element-local dof `i` (`3·k + m`) of quad `q`.
+fn element_dof(q: &[usize; 4], i: usize) -> usize {
+    3 * q[i / 3] + i % 3
+}
+
+/// Where in the stored tangent each element's upper-triangle pairs and each node's 3×3 block
+/// go (`u32::MAX` where a dof is prescribed).
+fn slots(mesh: &Mesh, eq: &[usize], linear: &SparseCholesky) -> (Vec<[u32; 78]>, Vec<[u32; 9]>) {
+    let slot = |a: usize, b: usize| -> u32 {
+        if a == usize::MAX || b == usize::MAX {
+            u32::MAX
+        } else {
+            linear.slot(a, b).expect("pair in pattern") as u32
+        }
+    };
+    let element_slots = mesh
+        .quads
+        .iter()
+        .map(|q| {
+            let mut s = [u32::MAX; 78];
+            for i in 0..12 {
+                for j in i..12 {
+                    s[pair_index(i, j)] = slot(eq[element_dof(q, i)], eq[element_dof(q, j)]);
+                }
+            }
+            s
+        })
+        .collect();
+    let node_slots = (0..mesh.nodes.len())
+        .map(|nd| {
+            let mut s = [u32::MAX; 9];
+            for a in 0..3 {
+                for b in 0..3 {
+                    s[3 * a + b] = slot(eq[3 * nd + a], eq[3 * nd + b]);
+                }
+            }
+            s
+        })
+        .collect();
+    (element_slots, node_slots)
+}
+
+/// The cells' tensile stiffness each node carries, `C̄/L̄0 · cells`, N/mm.
+fn cell_stiffness(mesh: &Mesh, geometry: &[ElementGeometry], law: &CellLaw) -> Vec<f64> {
+    let c_mean = 0.5 * (law.p.c[0] + law.p.c[1]);
+    let l_mean = 0.5 * (law.p.l0[0] + law.p.l0[1]);
+    let mut stiffness = vec![0.0; mesh.nodes.len()];
+    for (q, g) in mesh.quads.iter().zip(geometry) {
+        for &nd in q {
+            stiffness[nd] += 0.25 * g.cell_count() * c_mean / l_mean;
+        }
+    }
+    stiffness
+}
+
 impl Model {
     /// Builds the model: element geometry, the dof numbering with `prescribed_dofs` removed, the
     /// sparsity pattern and its symbolic factorization.
@@ -93,56 +148,18 @@ impl Model {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let (eq, n) = number_equations(mesh.dofs(), prescribed_dofs);
-        let edof = |q: &[usize; 4], i: usize| 3 * q[i / 3] + i % 3;
         let couplings = mesh.quads.iter().flat_map(|q| {
             let eq = &eq;
             (0..12).flat_map(move |i| {
                 (i..12).filter_map(move |j| {
-                    let (a, b) = (eq[edof(q, i)], eq[edof(q, j)]);
+                    let (a, b) = (eq[element_dof(q, i)], eq[element_dof(q, j)]);
                     (a != usize::MAX && b != usize::MAX).then_some((a, b))
                 })
             })
         });
         let linear = SparseCholesky::new(UpperPattern::from_couplings(n, couplings));
-        let slot = |a: usize, b: usize| -> u32 {
-            if a == usize::MAX || b == usize::MAX {
-                u32::MAX
-            } else {
-                linear.slot(a, b).expect("pair in pattern") as u32
-            }
-        };
-        let element_slots = mesh
-            .quads
-            .iter()
-            .map(|q| {
-                let mut s = [u32::MAX; 78];
-                for i in 0..12 {
-                    for j in i..12 {
-                        s[pair_index(i, j)] = slot(eq[edof(q, i)], eq[edof(q, j)]);
-                    }
-                }
-                s
-            })
-            .collect();
-        let node_slots = (0..mesh.nodes.len())
-            .map(|nd| {
-                let mut s = [u32::MAX; 9];
-                for a in 0..3 {
-                    for b in 0..3 {
-                        s[3 * a + b] = slot(eq[3 * nd + a], eq[3 * nd + b]);
-                    }
-                }
-                s
-            })
-            .collect();
-        let c_mean = 0.5 * (law.p.c[0] + law.p.c[1]);
-        let l_mean = 0.5 * (law.p.l0[0] + law.p.l0[1]);
-        let mut cell_stiffness = vec![0.0; mesh.nodes.len()];
-        for (q, g) in mesh.quads.iter().zip(&geometry) {
-            for &nd in q {
-                cell_stiffness[nd] += 0.25 * g.cell_count() * c_mean / l_mean;
-            }
-        }
+        let (element_slots, node_slots) = slots(&mesh, &eq, &linear);
+        let cell_stiffness = cell_stiffness(&mesh, &geometry, &law);
         let element_size =
             (geometry.iter().map(|g| g.area0).sum::<f64>() / geometry.len().max(1) as f64).sqrt();
         let ne = mesh.quads.len();

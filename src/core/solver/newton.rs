@@ -72,6 +72,8 @@ pub(super) struct History {
     /// The damping and the line search's length of each correction (recorded likewise).
     pub damping: Vec<f64>,
     pub alphas: Vec<f64>,
+    /// The residual of the state that converged, over the free dofs, N.
+    pub converged_residual: Vec<f64>,
     last_active: Option<Vec<bool>>,
 }
 
@@ -89,19 +91,23 @@ struct Progress {
 
 impl Solver<'_> {
     /// Newton iterations at load `lambda` from the current displacements (the step started
-    /// from `u_step_start`); `history` receives the residual norm of each iteration. Returns the
+    /// from `u_step_start`; `from_converged`: the state converged before its lagged terms were
+    /// updated); `history` receives the residual norm of each iteration. Returns the
     /// iterations taken.
     pub(super) fn newton(
         &mut self,
         lambda: f64,
         terms: &mut dyn NodalTerms,
         u_step_start: &[f64],
+        from_converged: bool,
         history: &mut History,
     ) -> Result<u32, NewtonError> {
         let mut carried = None;
         let mut progress = Progress {
             first_residual: None,
-            last_du: f64::INFINITY,
+            // A state that converged a moment ago (lagged terms since updated) needs no new
+            // correction to count as converged again; any other needs one.
+            last_du: if from_converged { 0.0 } else { f64::INFINITY },
             last_full: false,
             damping: 0.0,
         };
@@ -125,6 +131,7 @@ impl Solver<'_> {
             }
             let tolerance = self.residual_tolerance(&a);
             if rn <= tolerance && self.small_correction(&progress, u_step_start) {
+                history.converged_residual = a.r;
                 return Ok(it);
             }
             if it == self.options.max_iterations {

@@ -57,10 +57,18 @@ impl std::fmt::Display for Failure {
     }
 }
 
+/// The load step being solved: from `lambda` to `target`, from the state saved at its start.
+struct Attempt {
+    lambda: f64,
+    target: f64,
+    u_start: Vec<f64>,
+    crimp_start: Vec<[crate::core::law::CrimpState; crate::core::element::GAUSS]>,
+}
+
 impl Solver<'_> {
-    /// Runs the load path from the current state to `λ = 1`. `progress` receives the load
-    /// factor after every accepted step; returning `ControlFlow::Break` stops the run there
-    /// (`Failure::Stopped`, the state left at that step).
+    /// Runs the load path from the model's state at `λ = 0` to `λ = 1`. `progress` receives
+    /// the load factor after every accepted step; returning `ControlFlow::Break` stops the run
+    /// there (`Failure::Stopped`, the state left at that step).
     pub fn solve(
         &mut self,
         prescribed: &dyn Prescribed,
@@ -70,83 +78,44 @@ impl Solver<'_> {
         let mut lambda = 0.0;
         let mut step = self.options.initial_step.min(self.options.max_step);
         let mut previous: Option<(f64, Vec<f64>)> = None;
-        while lambda < 1.0 - 1e-12 {
+        let outcome = loop {
+            if lambda >= 1.0 - 1e-12 {
+                break Ok(());
+            }
             if self.stats.steps >= self.options.max_steps {
-                self.ws.assemble(self.model, lambda, &*terms, false);
-                return Err(Failure::TooManySteps {
+                break Err(Failure::TooManySteps {
                     lambda,
                     steps: self.stats.steps,
                 });
             }
-            let target = (lambda + step).min(1.0);
-            let u_start = self.model.u.clone();
-            let crimp_start = self.model.crimp.clone();
-            terms.begin_step(lambda, target, &self.model.positions());
-            self.predict(
-                target,
-                previous
-                    .as_ref()
-                    .map(|(dl, du)| ((target - lambda) / dl, du)),
-            );
-            self.apply_prescribed(target, prescribed);
-            if self.options.project_predictor {
-                let mut x = self.model.positions();
-                terms.project(target, &mut x);
-                self.model.set_free_positions(&x);
-            }
-            let mut history = History::default();
-            let mut outcome = self.newton(target, terms, &u_start, &mut history);
-            // Terms that lag (friction's normal force) are solved again from the converged
-            // state until a pass needs no iteration: the fixed point within the step.
-            for _ in 0..self.options.max_lag_passes {
-                let Ok(done) = outcome else { break };
-                let x = self.model.positions();
-                if done == 0 || !terms.relag(target, &x) {
-                    break;
-                }
-                outcome = self
-                    .newton(target, terms, &u_start, &mut history)
-                    .map(|more| done + more);
-                if outcome == Ok(done) {
-                    break;
-                }
-            }
-            match outcome {
-                Ok(iterations) => {
-                    let du: Vec<f64> = self
-                        .model
-                        .u
-                        .iter()
-                        .zip(&u_start)
-                        .map(|(a, b)| a - b)
-                        .collect();
-                    self.account_unbalanced_work(target, &*terms, &du);
-                    terms.end_step(target, &self.model.positions());
-                    previous = Some((target - lambda, du));
-                    lambda = target;
-                    self.stats.steps += 1;
-                    self.stats.lambda = lambda;
-                    if self.options.record_residuals {
-                        self.stats.residuals.push(history.residuals);
-                        self.stats.active_changes.push(history.changes);
-                        self.stats.alphas.push(history.alphas);
-                        self.stats.damping.push(history.damping);
-                    }
+            let attempt = Attempt {
+                lambda,
+                target: (lambda + step).min(1.0),
+                u_start: self.model.u.clone(),
+                crimp_start: self.model.crimp.clone(),
+            };
+            match self.attempt(&attempt, prescribed, terms, previous.as_ref()) {
+                Ok((iterations, history)) => {
+                    let du = self.accept(&attempt, history);
+                    terms.end_step(attempt.target, &self.model.positions());
+                    previous = Some((attempt.target - lambda, du));
+                    lambda = attempt.target;
                     if progress(lambda).is_break() {
                         return Err(Failure::Stopped { lambda });
                     }
                     step = self.next_step(step, iterations);
                 }
                 Err(cause) => {
-                    self.model.u = u_start;
-                    self.model.crimp = crimp_start;
+                    // Back to the step's start, a quarter of the increment, no predictor. The
+                    // Levenberg–Marquardt damping the failed attempt raised is kept: the retry
+                    // starts cautious (resetting it made the stiffest fabrics fail).
+                    self.model.u = attempt.u_start;
+                    self.model.crimp = attempt.crimp_start;
                     self.stats.cutbacks += 1;
                     step *= 0.25;
                     previous = None;
                     if step < self.options.min_step {
-                        // Leave the element outputs at the last converged state.
-                        self.ws.assemble(self.model, lambda, &*terms, false);
-                        return Err(Failure::StepFailed {
+                        break Err(Failure::StepFailed {
                             lambda,
                             step,
                             cause,
@@ -155,10 +124,77 @@ impl Solver<'_> {
                     }
                 }
             }
-        }
-        // Leave the element outputs at the final state.
+        };
+        // Leave the element outputs at the last converged state.
         self.ws.assemble(self.model, lambda, &*terms, false);
-        Ok(())
+        outcome
+    }
+
+    /// Solves one step: the predictor moved back onto the tools, Newton, and for terms that lag
+    /// (friction's normal force, when asked to) Newton again from the converged state until a
+    /// pass has nothing left to do: the fixed point within the step.
+    fn attempt(
+        &mut self,
+        attempt: &Attempt,
+        prescribed: &dyn Prescribed,
+        terms: &mut dyn NodalTerms,
+        previous: Option<&(f64, Vec<f64>)>,
+    ) -> Result<(u32, History), NewtonError> {
+        let (lambda, target) = (attempt.lambda, attempt.target);
+        terms.begin_step(lambda, target, &self.model.positions());
+        if let Some((dl, du)) = previous {
+            self.predict((target - lambda) / dl, du);
+        }
+        self.apply_prescribed(target, prescribed);
+        if self.options.project_predictor {
+            let mut x = self.model.positions();
+            terms.project(target, &mut x);
+            self.model.set_free_positions(&x);
+        }
+        let mut history = History::default();
+        let mut iterations = self.newton(target, terms, &attempt.u_start, false, &mut history)?;
+        for _ in 0..self.options.max_lag_passes {
+            if !terms.relag(target, &self.model.positions()) {
+                break;
+            }
+            let more = self.newton(target, terms, &attempt.u_start, true, &mut history)?;
+            iterations += more;
+            if more == 0 {
+                break;
+            }
+        }
+        Ok((iterations, history))
+    }
+
+    /// Takes a converged step: the counters, the work its unbalanced residual did, the
+    /// histories. Returns its increment.
+    fn accept(&mut self, attempt: &Attempt, history: History) -> Vec<f64> {
+        let du: Vec<f64> = self
+            .model
+            .u
+            .iter()
+            .zip(&attempt.u_start)
+            .map(|(a, b)| a - b)
+            .collect();
+        // The work of the residual left at convergence over the step's increment (free dofs).
+        let m = &*self.model;
+        let w: f64 =
+            m.eq.iter()
+                .enumerate()
+                .filter(|(_, q)| **q != usize::MAX)
+                .map(|(d, &q)| history.converged_residual.get(q).copied().unwrap_or(0.0) * du[d])
+                .sum();
+        self.stats.unbalanced_work += w.abs();
+        self.stats.steps += 1;
+        self.stats.lambda = attempt.target;
+        self.stats.law_iterations = self.ws.law_iterations;
+        if self.options.record_residuals {
+            self.stats.residuals.push(history.residuals);
+            self.stats.active_changes.push(history.changes);
+            self.stats.alphas.push(history.alphas);
+            self.stats.damping.push(history.damping);
+        }
+        du
     }
 
     /// The next load increment after one that took `iterations` Newton iterations: scaled by
@@ -169,11 +205,9 @@ impl Solver<'_> {
         (step * factor).min(self.options.max_step)
     }
 
-    /// The secant predictor on the free dofs: the previous step's increment scaled by `ratio`.
-    fn predict(&mut self, _target: f64, previous: Option<(f64, &Vec<f64>)>) {
-        let Some((ratio, du)) = previous else {
-            return;
-        };
+    /// The secant predictor on the free dofs: the previous step's increment `du` scaled by
+    /// `ratio`.
+    fn predict(&mut self, ratio: f64, du: &[f64]) {
         let m = &mut *self.model;
         for (d, &q) in m.eq.iter().enumerate() {
             if q != usize::MAX {
@@ -189,18 +223,5 @@ impl Solver<'_> {
         for (&d, v) in prescribed.dofs().iter().zip(vals) {
             self.model.u[d] = v;
         }
-    }
-
-    /// Adds the work of the residual left at convergence over the step's increment (free dofs).
-    fn account_unbalanced_work(&mut self, lambda: f64, terms: &dyn NodalTerms, du: &[f64]) {
-        let a = self.ws.assemble(self.model, lambda, terms, false);
-        let m = &*self.model;
-        let w: f64 =
-            m.eq.iter()
-                .enumerate()
-                .filter(|(_, q)| **q != usize::MAX)
-                .map(|(d, &q)| a.r[q] * du[d])
-                .sum();
-        self.stats.unbalanced_work += w.abs();
     }
 }

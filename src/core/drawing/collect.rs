@@ -1,0 +1,155 @@
+//! The fields and figures of a drawing's final state, gathered into a [`DrawingResult`].
+
+use super::{DrawingFailure, DrawingProblem, DrawingResult};
+use crate::core::contact::Contact;
+use crate::core::mesh::Mesh;
+use crate::core::solver::{Model, SolveStats};
+
+/// The fields and figures of the model's final state.
+pub(super) fn collect(
+    problem: &DrawingProblem,
+    model: &Model,
+    contact: &Contact,
+    quarter: bool,
+    stats: SolveStats,
+    left_out: Vec<String>,
+) -> DrawingResult {
+    let lambda = stats.lambda;
+    let x = model.positions();
+    let sym = if quarter { 4.0 } else { 1.0 };
+    let punch_force_n = -sym * contact.tool_force(0, lambda, &x)[2];
+    let force_history: Vec<(f64, f64)> = contact
+        .punch_history
+        .iter()
+        .map(|(l, f)| (l * problem.stroke, -sym * f))
+        .collect();
+    let outputs = model.element_outputs();
+    let mean = |a: usize| -> Vec<f64> {
+        outputs
+            .iter()
+            .map(|o| o.tension.iter().map(|t| t[a]).sum::<f64>() / 4.0)
+            .collect()
+    };
+    let punch_work_nmm = punch_work(&force_history);
+    let unbalanced_work_share = if punch_work_nmm > 0.0 {
+        sym * stats.unbalanced_work / punch_work_nmm
+    } else {
+        0.0
+    };
+    DrawingResult {
+        converged: true,
+        failure: None,
+        quarter,
+        element_size_mm: problem.element_size,
+        shear_deg: model.shear_angles_deg(),
+        t11_n: mean(0),
+        t22_n: mean(1),
+        tension_max_n: model.max_tension_n(),
+        contact: contact_status(contact, lambda, &x),
+        stroke_reached_mm: lambda * problem.stroke,
+        punch_force_n,
+        force_history,
+        penetration_mm: contact.max_penetration(lambda, &x),
+        draw_in_mm: edge_draw_in(&model.mesh, &x, quarter),
+        dofs: model.free_dofs(),
+        stats,
+        punch_work_nmm,
+        unbalanced_work_share,
+        left_out,
+        positions: x,
+        mesh: model.mesh.clone(),
+    }
+}
+
+/// Each node's contact: 0 free, 1 punch, 2 die, 3 die and holder.
+fn contact_status(contact: &Contact, lambda: f64, x: &[[f64; 3]]) -> Vec<u8> {
+    let punch = contact.in_contact(0, lambda, x);
+    let die = contact.in_contact(1, lambda, x);
+    let held = contact.holder_force(x);
+    (0..x.len())
+        .map(|i| match (punch[i], die[i], held[i] > 0.0) {
+            (true, _, _) => 1,
+            (false, true, true) => 3,
+            (false, true, false) => 2,
+            _ => 0,
+        })
+        .collect()
+}
+
+/// The punch's work over its force history (stroke in mm, force in N), by the trapezoid rule,
+/// N·mm.
+fn punch_work(history: &[(f64, f64)]) -> f64 {
+    let mut w = 0.0;
+    let mut last = (0.0, 0.0);
+    for &(z, f) in history {
+        w += 0.5 * (f + last.1) * (z - last.0);
+        last = (z, f);
+    }
+    w
+}
+
+/// The largest inward plan displacement of a node on the blank's outer edge, mm.
+fn edge_draw_in(mesh: &Mesh, x: &[[f64; 3]], quarter: bool) -> f64 {
+    let (mut xmax, mut ymax, mut xmin, mut ymin) = (f64::MIN, f64::MIN, f64::MAX, f64::MAX);
+    for p in &mesh.nodes {
+        xmax = xmax.max(p[0]);
+        ymax = ymax.max(p[1]);
+        xmin = xmin.min(p[0]);
+        ymin = ymin.min(p[1]);
+    }
+    let tol = 1e-9 * (xmax - xmin).abs().max(1.0);
+    let mut best = 0.0f64;
+    for (p0, p) in mesh.nodes.iter().zip(x) {
+        let on_xmax = (p0[0] - xmax).abs() < tol;
+        let on_ymax = (p0[1] - ymax).abs() < tol;
+        let on_xmin = !quarter && (p0[0] - xmin).abs() < tol;
+        let on_ymin = !quarter && (p0[1] - ymin).abs() < tol;
+        if on_xmax {
+            best = best.max(p0[0] - p[0]);
+        }
+        if on_ymax {
+            best = best.max(p0[1] - p[1]);
+        }
+        if on_xmin {
+            best = best.max(p[0] - p0[0]);
+        }
+        if on_ymin {
+            best = best.max(p[1] - p0[1]);
+        }
+    }
+    best
+}
+
+pub(super) fn failed_early(
+    problem: &DrawingProblem,
+    mesh: Mesh,
+    quarter: bool,
+    failure: DrawingFailure,
+    left_out: Vec<String>,
+) -> DrawingResult {
+    let ne = mesh.quads.len();
+    let nn = mesh.nodes.len();
+    DrawingResult {
+        converged: false,
+        failure: Some(failure),
+        quarter,
+        element_size_mm: problem.element_size,
+        positions: mesh.nodes.clone(),
+        shear_deg: vec![0.0; ne],
+        t11_n: vec![0.0; ne],
+        t22_n: vec![0.0; ne],
+        tension_max_n: vec![0.0; ne],
+        contact: vec![0; nn],
+        stroke_reached_mm: 0.0,
+        punch_force_n: 0.0,
+        force_history: Vec::new(),
+        penetration_mm: 0.0,
+        draw_in_mm: 0.0,
+        dofs: 0,
+        stats: SolveStats::default(),
+        punch_work_nmm: 0.0,
+        unbalanced_work_share: 0.0,
+        left_out,
+        mesh,
+    }
+}
