@@ -143,7 +143,7 @@ impl RunSummary {
             stabilisation_work_share: result.unbalanced_work_share,
             unsound,
             mechanism: result.stats.mechanism,
-            left_out: result.left_out.clone(),
+            left_out: result.left_out.iter().map(|l| l.to_string()).collect(),
             files: BTreeMap::new(),
             inputs: scene.clone(),
         }

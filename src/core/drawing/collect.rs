@@ -1,6 +1,6 @@
 //! The fields and figures of a drawing's final state, gathered into a [`DrawingResult`].
 
-use super::{DrawingFailure, DrawingProblem, DrawingResult};
+use super::{DrawingFailure, DrawingProblem, DrawingResult, LeftOut};
 use crate::core::contact::Contact;
 use crate::core::mesh::Mesh;
 use crate::core::solver::{Model, SolveStats};
@@ -12,7 +12,7 @@ pub(super) fn collect(
     contact: &Contact,
     quarter: bool,
     stats: SolveStats,
-    left_out: Vec<String>,
+    left_out: Vec<LeftOut>,
 ) -> DrawingResult {
     let lambda = stats.lambda;
     let x = model.positions();
@@ -125,7 +125,7 @@ pub(super) fn failed_early(
     mesh: Mesh,
     quarter: bool,
     failure: DrawingFailure,
-    left_out: Vec<String>,
+    left_out: Vec<LeftOut>,
 ) -> DrawingResult {
     let ne = mesh.quads.len();
     let nn = mesh.nodes.len();

@@ -303,6 +303,30 @@ pub fn solve(problem: &DrawingProblem, progress: &mut dyn FnMut(f64)) -> Drawing
     })
 }
 
+/// A term of the model a drawing does without.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LeftOut {
+    /// The whole blank is solved: the yarns are not along both axes.
+    QuarterSymmetry,
+    /// The linear yarn law `T = C max(ε, 0)` stands for the woven one.
+    Undulation,
+    /// No blank holder (pressure 0).
+    Holder,
+    /// No friction (μ = 0).
+    Friction,
+}
+
+impl std::fmt::Display for LeftOut {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            LeftOut::QuarterSymmetry => "quarter symmetry (yarns not along both axes)",
+            LeftOut::Undulation => "undulation (the linear yarn law is used)",
+            LeftOut::Holder => "blank holder (pressure 0)",
+            LeftOut::Friction => "friction (μ = 0)",
+        })
+    }
+}
+
 /// A drawing ready to solve: its model at the start, the contact terms, the symmetry planes.
 pub struct Prepared {
     pub model: Model,
@@ -310,7 +334,7 @@ pub struct Prepared {
     pub prescribed: LinearPrescribed,
     pub quarter: bool,
     /// Terms the scene did not need and that were not built.
-    pub left_out: Vec<String>,
+    pub left_out: Vec<LeftOut>,
 }
 
 impl DrawingProblem {
@@ -343,19 +367,19 @@ impl DrawingProblem {
     }
 
     /// Terms the problem does not need and that are not built.
-    fn left_out(&self) -> Vec<String> {
+    fn left_out(&self) -> Vec<LeftOut> {
         let mut left_out = Vec::new();
         if !self.quarter_applies() {
-            left_out.push("quarter symmetry (yarns not along both axes)".to_string());
+            left_out.push(LeftOut::QuarterSymmetry);
         }
         if !self.fabric.undulation {
-            left_out.push("undulation (the linear yarn law is used)".to_string());
+            left_out.push(LeftOut::Undulation);
         }
         if self.holder_pressure == 0.0 {
-            left_out.push("blank holder (pressure 0)".to_string());
+            left_out.push(LeftOut::Holder);
         }
         if self.friction == 0.0 {
-            left_out.push("friction (μ = 0)".to_string());
+            left_out.push(LeftOut::Friction);
         }
         left_out
     }

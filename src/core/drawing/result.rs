@@ -1,5 +1,6 @@
 //! What a drawing found on the solved part of the blank, and whether it can be trusted.
 
+use super::LeftOut;
 use super::failure::DrawingFailure;
 use crate::core::mesh::Mesh;
 use crate::core::solver::SolveStats;
@@ -83,7 +84,7 @@ pub struct DrawingResult {
     /// within the tolerance. (`run --json` calls it `stabilisation_work_share`.)
     pub unbalanced_work_share: f64,
     /// Terms the scene did not need and that were not built.
-    pub left_out: Vec<String>,
+    pub left_out: Vec<LeftOut>,
 }
 
 impl DrawingResult {
