@@ -549,7 +549,8 @@ impl Default for Blank {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Numerics {
-    /// Viscous stabilisation κ of the slack fabric (dimensionless; 0 turns it off).
+    /// Pseudo-transient damping κ of the Newton corrections on the slack fabric
+    /// (dimensionless; 0 turns it off). It damps corrections only, not the answer.
     pub stabilisation: f64,
     /// Contact penalty, as a multiple of the cells' tensile stiffness.
     pub penalty_factor: f64,
@@ -891,7 +892,7 @@ impl Scene {
                 broken(
                     "numerics.stabilisation",
                     n.stabilisation,
-                    "a viscous stabilisation κ ≥ 0 (0 turns it off)",
+                    "a damping κ ≥ 0 of the Newton corrections (0 turns it off)",
                 )
             },
         )?;
@@ -945,9 +946,10 @@ impl Scene {
             key: "mesh.element_size".into(),
             involved: vec!["mesh.element_size", "blank.size"],
             detail: format!(
-                "mesh.element_size = {} mm on a {} mm blank: {:.2e} elements ({} solved) would need about {} of memory, and a run may take {} on this machine (80 % of what is available): {advice}",
+                "mesh.element_size = {} mm on a {} × {} mm blank: {:.2e} elements ({} solved) would need about {} of memory, but a run may use at most {} on this machine (80 % of what is available): {advice}",
                 self.mesh.element_size,
-                self.blank.size,
+                self.blank.size.0[0],
+                self.blank.size.0[1],
                 size.elements,
                 if problem.quarter_applies() {
                     "a quarter"

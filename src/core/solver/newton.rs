@@ -83,6 +83,8 @@ struct Progress {
     first_residual: Option<f64>,
     /// The length of the last correction taken, mm.
     last_du: f64,
+    /// The work of the last correction taken against the residual, `α |r · Δu|`, N·mm.
+    last_work: f64,
     /// The last correction was taken in full.
     last_full: bool,
     /// The damping of the last correction, times the cells' stiffness.
@@ -108,6 +110,7 @@ impl Solver<'_> {
             // A state that converged a moment ago (lagged terms since updated) needs no new
             // correction to count as converged again; any other needs one.
             last_du: if from_converged { 0.0 } else { f64::INFINITY },
+            last_work: if from_converged { 0.0 } else { f64::INFINITY },
             last_full: false,
             damping: 0.0,
         };
@@ -130,7 +133,7 @@ impl Solver<'_> {
                 history.last_active = Some(active);
             }
             let tolerance = self.residual_tolerance(&a);
-            if rn <= tolerance && self.small_correction(&progress, u_step_start) {
+            if rn <= tolerance && self.small_correction(&progress, tolerance, u_step_start) {
                 history.converged_residual = a.r;
                 return Ok(it);
             }
@@ -155,6 +158,7 @@ impl Solver<'_> {
             self.adapt_damping(alpha);
             progress.last_full = alpha >= 0.999;
             progress.last_du = alpha * norm_inf(&c.du);
+            progress.last_work = alpha * c.slope.abs();
         }
         Err(NewtonError::NoConvergence {
             iterations: self.options.max_iterations,
@@ -183,8 +187,10 @@ impl Solver<'_> {
     }
 
     /// The last correction is small: against the element size, or against what the step has
-    /// moved so far.
-    fn small_correction(&self, progress: &Progress, u_step_start: &[f64]) -> bool {
+    /// moved so far; or its work against the residual is below that of the tolerated residual
+    /// over the tolerated correction (a correction along a soft mode of the slack fabric, where
+    /// a residual a thousand times below the tolerance still moves nodes by micrometres).
+    fn small_correction(&self, progress: &Progress, tolerance: f64, u_step_start: &[f64]) -> bool {
         let step_move = self
             .model
             .u
@@ -192,7 +198,7 @@ impl Solver<'_> {
             .zip(u_step_start)
             .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         let tol_u = self.options.tol_displacement * self.model.element_size;
-        progress.last_du <= tol_u.max(1e-4 * step_move)
+        progress.last_du <= tol_u.max(1e-4 * step_move) || progress.last_work <= tolerance * tol_u
     }
 
     /// The Newton correction from the assembled tangent, damped by the pseudo-transient
