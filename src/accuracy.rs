@@ -87,21 +87,21 @@ impl Accuracy {
             Accuracy::Coarse => ErrorEstimate {
                 max_shear_deg: 4.5,
                 punch_force_pct: 7.0,
-                open_box_wall_s: 0.13,
+                open_box_wall_s: 0.07,
             },
             // Open 59.04° (0.57°, force 2.0 % under the Richardson limit 6,581 N), tight 78.08°
             // (0.59°, force 0.4 %).
             Accuracy::Standard => ErrorEstimate {
                 max_shear_deg: 1.0,
                 punch_force_pct: 2.5,
-                open_box_wall_s: 0.37,
+                open_box_wall_s: 0.42,
             },
             // The change from the 1.77 mm rung: open 0.35° (force 0.4 %), tight 0.15°
             // (force 1.0 %).
             Accuracy::Fine => ErrorEstimate {
                 max_shear_deg: 0.4,
                 punch_force_pct: 1.0,
-                open_box_wall_s: 3.1,
+                open_box_wall_s: 3.3,
             },
         }
     }

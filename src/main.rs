@@ -906,8 +906,8 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
     let ms = |s: f64| s * 1e3;
     for (name, run) in &drawings {
         println!(
-            "{:<48} {:>12.3} s   ({} dofs, {} steps, {} Newton iterations, {:.1} a step; range {:.2} to {:.2} s)",
-            format!("{name}, standard (2.5 mm), whole run"),
+            "{:<48} {:>12.3} s   (standard, 2.5 mm: {} dofs, {} steps, {} Newton iterations, {:.1} a step; range {:.2} to {:.2} s)",
+            format!("{name}, whole run"),
             run.wall_s,
             run.dofs,
             run.steps,

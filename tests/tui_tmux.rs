@@ -79,6 +79,22 @@ impl Tmux {
         }
     }
 
+    /// Waits until the screen shows one of `texts`; returns the screen.
+    fn wait_for_any(&self, texts: &[String], timeout_s: u64) -> String {
+        let start = Instant::now();
+        loop {
+            let s = self.screen();
+            if texts.iter().any(|t| s.contains(t.as_str())) {
+                return s;
+            }
+            assert!(
+                start.elapsed() < Duration::from_secs(timeout_s),
+                "waited {timeout_s} s for one of {texts:?}; the screen:\n{s}"
+            );
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+
     fn alive(&self) -> bool {
         Command::new("tmux")
             .args(["-L", &self.socket, "has-session", "-t", "t"])
@@ -108,7 +124,7 @@ fn design_line(screen: &str, index: usize) -> String {
 fn a_session_open_run_sort_detail_export_quit() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = format!(
-        "# The paper's tight and open radii, coarse mesh.\nbase = {:?}\n\n[scene.mesh]\nelement_size = 5.0\n\n[sweep]\nr = [5.0, 10.0]\nrp = [6.0, 15.0]\nrm = [5.0, 10.0]\n",
+        "# The paper's tight and open radii, standard mesh (long enough to be seen running).\nbase = {:?}\n\n[scene.mesh]\nelement_size = 2.5\n\n[sweep]\nr = [5.0, 10.0]\nrp = [6.0, 15.0]\nrm = [5.0, 10.0]\n",
         common::preset("paper-box-open.toml")
     );
     std::fs::write(dir.path().join("small.toml"), sweep).unwrap();
@@ -117,7 +133,7 @@ fn a_session_open_run_sort_detail_export_quit() {
 
     let s = t.wait_for("ready: r runs 8 designs", 20);
     println!("— opened:\n{s}");
-    assert!(s.contains("coarse (5 mm)"), "{s}");
+    assert!(s.contains("standard (2.5 mm)"), "{s}");
 
     t.keys(&["r"]);
     let s = t.wait_for("running:", 20);
@@ -195,12 +211,20 @@ fn no_argument_opens_the_default_and_quit_restores_the_terminal() {
 
 #[test]
 fn cancel_stops_the_workers_promptly_and_keeps_the_finished_rows() {
+    // The default grid on a fine mesh (1.25 mm): 2 to 5 s a design, so that it is still
+    // running when one has finished; cancel then.
     let dir = tempfile::tempdir().unwrap();
-    let t = Tmux::start("cancel", dir.path(), env!("CARGO_BIN_EXE_wovenform"));
+    let sweep = format!(
+        "base = {:?}\n\n[scene.mesh]\nelement_size = 1.25\n\n[sweep]\nr = [5.0, 10.0]\nrp = [6.0, 15.0]\nrm = [5.0, 10.0]\n",
+        common::preset("paper-box-open.toml")
+    );
+    std::fs::write(dir.path().join("fine.toml"), sweep).unwrap();
+    let command = format!("{} tui fine.toml", env!("CARGO_BIN_EXE_wovenform"));
+    let t = Tmux::start("cancel", dir.path(), &command);
     t.wait_for("ready: r runs 8 designs", 20);
     t.keys(&["r"]);
-    // The default grid at `standard`: 1.5 to 20 s a design; cancel once one has finished.
-    t.wait_for("running: 1/8", 60);
+    let running: Vec<String> = (1..8).map(|k| format!("running: {k}/8")).collect();
+    t.wait_for_any(&running, 120);
     t.keys(&["c"]);
     let asked = Instant::now();
     let s = t.wait_for("cancelled after", 10);
