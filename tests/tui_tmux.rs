@@ -79,6 +79,14 @@ impl Tmux {
         }
     }
 
+    /// [`Tmux::wait_for`], then the screen a moment later: a capture can catch a frame half
+    /// written, with `text` drawn and what is below it not yet.
+    fn settled(&self, text: &str, timeout_s: u64) -> String {
+        self.wait_for(text, timeout_s);
+        std::thread::sleep(Duration::from_millis(300));
+        self.screen()
+    }
+
     /// Waits until the screen shows one of `texts`; returns the screen.
     fn wait_for_any(&self, texts: &[String], timeout_s: u64) -> String {
         let start = Instant::now();
@@ -142,7 +150,7 @@ fn a_session_open_run_sort_detail_export_quit() {
     t.keys(&["?"]);
     t.wait_for("Help", 5);
     t.keys(&["Escape"]);
-    let s = t.wait_for("finished: 8/8", 180);
+    let s = t.settled("finished: 8/8", 180);
     println!("— finished:\n{s}");
     assert!(design_line(&s, 0).contains("✗ shear"), "{s}");
     assert!(design_line(&s, 7).contains("✓ feasible"), "{s}");
@@ -150,7 +158,7 @@ fn a_session_open_run_sort_detail_export_quit() {
     // Sort by the max shear (#, r, rp, rm, friction, holder_pressure, shear): the open
     // design, the least sheared, comes first.
     t.keys(&["s", "s", "s", "s", "s", "s"]);
-    let s = t.wait_for("sort: shear ↑", 5);
+    let s = t.settled("sort: shear ↑", 5);
     println!("— sorted by shear:\n{s}");
     let first = s
         .lines()
@@ -161,8 +169,9 @@ fn a_session_open_run_sort_detail_export_quit() {
 
     // Its detail: the verdict, the figures and the map in half blocks.
     t.keys(&["Enter"]);
-    let s = t.wait_for("Detail", 5);
+    let s = t.settled("Detail", 5);
     println!("— detail:\n{s}");
+    assert!(s.contains("Detail"), "{s}");
     assert!(s.contains("design 7 · r 10, rp 15, rm 10 mm"), "{s}");
     assert!(s.contains("✓ feasible"), "{s}");
     assert!(s.contains("60° locking"), "{s}");
@@ -174,7 +183,7 @@ fn a_session_open_run_sort_detail_export_quit() {
     let s = t.wait_for("Export to folder", 5);
     assert!(s.contains("small-export"), "{s}");
     t.keys(&["Enter"]);
-    let s = t.wait_for("exported to", 60);
+    let s = t.settled("exported to", 60);
     println!("— exported:\n{s}");
     let out = dir.path().join("small-export");
     for f in ["results.csv", "results.json", "report.png", "maps"] {
@@ -227,8 +236,9 @@ fn cancel_stops_the_workers_promptly_and_keeps_the_finished_rows() {
     t.wait_for_any(&running, 120);
     t.keys(&["c"]);
     let asked = Instant::now();
-    let s = t.wait_for("cancelled after", 10);
+    t.wait_for("cancelled after", 10);
     let took = asked.elapsed().as_secs_f64();
+    let s = t.settled("cancelled after", 1);
     println!("— cancelled ({took:.2} s after c):\n{s}");
     assert!(took < 5.0, "the workers took {took:.1} s to stop");
     let kept = s
