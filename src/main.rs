@@ -529,8 +529,13 @@ fn run(args: RunArgs) -> Result<(), Failure> {
         )));
     }
     if !result.converged {
+        let what = if summary.verdict.starts_with("NO ANSWER") {
+            "the drawing has no answer"
+        } else {
+            "the drawing did not converge"
+        };
         return Err(Failure::Run(format!(
-            "{}: the drawing did not converge: {}",
+            "{}: {what}: {}",
             args.scene.display(),
             result
                 .failure

@@ -10,7 +10,7 @@ use serde::Serialize;
 use super::maps::{self, MapContext};
 use super::vtu;
 use crate::accuracy::Accuracy;
-use crate::core::drawing::{DrawingResult, Tooling};
+use crate::core::drawing::{DrawingFailure, DrawingResult, Tooling};
 use crate::scene::{Scene, ToolKind};
 
 /// What `run --json` prints and `summary.json` holds. Every figure carries its unit in its name.
@@ -89,7 +89,10 @@ impl RunSummary {
             Vec::new()
         };
         let feasible = result.converged && unsound.is_empty() && !shear_over && !tension_over;
-        let verdict = if !result.converged {
+        let no_answer = matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_)));
+        let verdict = if no_answer {
+            "NO ANSWER: the model has no unique shape for this scene".to_string()
+        } else if !result.converged {
             format!(
                 "RUN FAILED at stroke {:.1} of {:.1} mm",
                 result.stroke_reached_mm, scene.process.stroke
@@ -200,6 +203,11 @@ impl RunSummary {
         if let Some(f) = &self.failure {
             let _ = writeln!(out, "failure      {f}");
         }
+        if !self.converged && self.steps == 0 {
+            // Nothing was solved: no figures to show.
+            self.write_footer(&mut out);
+            return out;
+        }
         let [x, y, z] = self.max_shear_at;
         let _ = writeln!(
             out,
@@ -253,6 +261,12 @@ impl RunSummary {
                 self.inputs.mesh.element_size
             ),
         };
+        self.write_footer(&mut out);
+        out
+    }
+
+    /// The terms left out and the files written.
+    fn write_footer(&self, out: &mut String) {
         if !self.left_out.is_empty() {
             let _ = writeln!(out, "left out     {}", self.left_out.join("; "));
         }
@@ -262,7 +276,6 @@ impl RunSummary {
                 let _ = writeln!(out, "{path}");
             }
         }
-        out
     }
 }
 

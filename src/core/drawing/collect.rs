@@ -129,6 +129,7 @@ pub(super) fn failed_early(
 ) -> DrawingResult {
     let ne = mesh.quads.len();
     let nn = mesh.nodes.len();
+    let dofs = 3 * nn - super::symmetry_planes(&mesh, quarter).dofs.len();
     DrawingResult {
         converged: false,
         failure: Some(failure),
@@ -145,7 +146,7 @@ pub(super) fn failed_early(
         force_history: Vec::new(),
         penetration_mm: 0.0,
         draw_in_mm: 0.0,
-        dofs: 0,
+        dofs,
         stats: SolveStats::default(),
         punch_work_nmm: 0.0,
         unbalanced_work_share: 0.0,
