@@ -220,21 +220,9 @@ pub fn drawing_run(
         last = Some((prepared, stats));
     }
     let (mut prepared, stats) = last.expect("one run at least");
-    let dofs = prepared.model.free_dofs();
+    let result = prepared.result(p, stats.clone());
     let contact = &prepared.contact;
     let x = prepared.model.positions();
-    let sym = if prepared.quarter { 4.0 } else { 1.0 };
-    let punch_force_n = -sym * contact.tool_force(0, 1.0, &x)[2];
-    let max_tension_n = prepared
-        .model
-        .max_tension_n()
-        .into_iter()
-        .fold(0.0, f64::max);
-    let max_shear_deg = prepared
-        .model
-        .shear_angles_deg()
-        .into_iter()
-        .fold(0.0, |m: f64, s| m.max(s.abs()));
     let mut r = vec![0.0; 3 * x.len()];
     let mut blocks = vec![NodeBlock::default(); x.len()];
     let contact_s = median_time(15, || {
@@ -250,7 +238,7 @@ pub fn drawing_run(
         black_box(solver.factor_solve_last_tangent(&mut rhs));
     });
     Ok(BoxRun {
-        dofs,
+        dofs: result.dofs,
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,
         krylov_iterations: stats.krylov_iterations,
@@ -259,9 +247,9 @@ pub fn drawing_run(
         assembly_s,
         contact_s,
         bare_factor_solve_s,
-        max_shear_deg,
-        max_tension_n,
-        punch_force_n,
+        max_shear_deg: result.max_shear().1,
+        max_tension_n: result.max_tension_n(),
+        punch_force_n: result.punch_force_n,
     })
 }
 

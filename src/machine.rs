@@ -1,18 +1,23 @@
 //! What the machine the program runs on allows: the memory a run may take.
 
-/// The memory one run may take, bytes: 80 % of what the system reports available
-/// (`MemAvailable` in `/proc/meminfo`), or 8 GiB where it does not say.
+/// The memory one run may take, bytes: 80 % of what the system reported available
+/// (`MemAvailable` in `/proc/meminfo`) when first asked, or of 10 GiB where it does not say.
+/// Read once per process: every scene's validation asks (each keystroke in the explorer, each
+/// design of a sweep).
 pub fn memory_budget_bytes() -> f64 {
-    let available = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|text| {
-            text.lines()
-                .find(|l| l.starts_with("MemAvailable:"))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|kb| kb.parse::<f64>().ok())
-        })
-        .map(|kb| kb * 1024.0);
-    0.8 * available.unwrap_or(10.0 * GIB)
+    static BUDGET: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+    *BUDGET.get_or_init(|| {
+        let available = std::fs::read_to_string("/proc/meminfo")
+            .ok()
+            .and_then(|text| {
+                text.lines()
+                    .find(|l| l.starts_with("MemAvailable:"))
+                    .and_then(|l| l.split_whitespace().nth(1))
+                    .and_then(|kb| kb.parse::<f64>().ok())
+            })
+            .map(|kb| kb * 1024.0);
+        0.8 * available.unwrap_or(10.0 * GIB)
+    })
 }
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;

@@ -7,11 +7,10 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Args, Parser, Subcommand};
+use clap::Parser;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
-use wovenform::accuracy::Accuracy;
 use wovenform::core::drawing;
 use wovenform::core::law::{CellLaw, CellParams};
 use wovenform::fit::{self as fitting, FitOptions, STRAIN_RANGE};
@@ -20,166 +19,12 @@ use wovenform::report::summary::{self, RunSummary};
 use wovenform::scene::{Override, Scene};
 use wovenform::sweep::{self, Plan, Progress, Shard, SweepError};
 
-#[derive(Parser, Debug)]
-#[command(
-    name = "wovenform",
-    version,
-    about = "Deep drawing of woven fabrics: the paper's biaxial woven-cell law and its uses"
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Option<Command>,
-}
+mod cli;
 
-/// One variant per subcommand, each with its own `Args` struct and its own function in `main`.
-#[derive(Subcommand, Debug)]
-enum Command {
-    /// Draw one scene: solve, print a summary (or one JSON object with --json) and write
-    /// summary.json, shear.png, tension.png and result.vtu into --out.
-    Run(RunArgs),
-    /// Run a grid of designs in parallel: results.csv (a row as each design finishes),
-    /// results.json, maps/<design>.png on one colour scale, report.png and a feasibility table.
-    Sweep(SweepArgs),
-    /// Combine the output folders of one sweep's shards into one results set and report.
-    Merge(MergeArgs),
-    /// Evaluate the biaxial woven-cell law at one strain pair (one JSON object), or draw the
-    /// paper's Figure 6 with --curves.
-    Law(LawArgs),
-    /// Identify A and B (and C with --fit-c) from measured biaxial tension curves.
-    Fit(FitArgs),
-    /// Measure throughput on this machine (one thread; medians of several repetitions).
-    Bench(BenchArgs),
-    /// Solve a scene on a ladder of mesh sizes and of load-step counts: each rung's error
-    /// against a Richardson extrapolation, next to its run time (converge.csv, converge.png).
-    Converge(ConvergeArgs),
-    /// The terminal explorer on a sweep file (without one: the paper's square box). Also what
-    /// `wovenform` alone opens in a terminal.
-    Tui(TuiArgs),
-}
-
-#[derive(Args, Debug)]
-struct ConvergeArgs {
-    /// Scene file (TOML).
-    #[arg(value_name = "SCENE.toml")]
-    scene: PathBuf,
-    /// Override one scene key; VALUE is a TOML literal. Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    /// Output folder.
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
-    /// Element sizes of the mesh ladder, mm, coarse to fine (default: the scene's size times
-    /// 2, √2, 1, 1/√2, 1/2).
-    #[arg(long, value_delimiter = ',', value_name = "MM,MM,...")]
-    sizes: Vec<f64>,
-    /// Least load-step counts of the step ladder, few to many (default 4,8,16,32,64).
-    #[arg(long, value_delimiter = ',', value_name = "N,N,...")]
-    steps: Vec<u32>,
-}
-
-#[derive(Args, Debug)]
-struct TuiArgs {
-    /// Sweep file (TOML), as for `sweep`; default: the paper's box, tight and open radii.
-    #[arg(value_name = "SWEEP.toml")]
-    sweep: Option<PathBuf>,
-}
-
-#[derive(Args, Debug)]
-struct RunArgs {
-    /// Scene file (TOML).
-    #[arg(value_name = "SCENE.toml")]
-    scene: PathBuf,
-    /// Override one scene key; VALUE is a TOML literal, e.g. --set tools.r=7.5 or
-    /// --set blank.size=[130,100]. Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    /// Output folder (default: out/<scene file stem>).
-    #[arg(long, value_name = "DIR")]
-    out: Option<PathBuf>,
-    /// Print one JSON object instead of the text summary.
-    #[arg(long)]
-    json: bool,
-    /// Accuracy level: coarse (5 mm elements), standard (2.5 mm) or fine (1.25 mm); sets
-    /// mesh.element_size (a --set of it wins) and reports the level's measured error.
-    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
-    accuracy: Option<Accuracy>,
-}
-
-#[derive(Args, Debug)]
-struct SweepArgs {
-    /// Sweep file (TOML): a base scene and a [sweep] table of parameters.
-    #[arg(value_name = "SWEEP.toml")]
-    sweep: PathBuf,
-    /// Override one key of the base scene; VALUE is a TOML literal. Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-    /// Output folder.
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
-    /// Designs run at once (default: every core).
-    #[arg(long, value_name = "N")]
-    jobs: Option<usize>,
-    /// Run only the I-th of N slices of the grid (the designs whose index is I-1 modulo N).
-    #[arg(long, value_name = "I/N")]
-    shard: Option<String>,
-    /// Continue a sweep in DIR: keep its rows for this base scene, run the missing designs.
-    #[arg(long)]
-    resume: bool,
-    /// Accuracy level: coarse (5 mm elements), standard (2.5 mm) or fine (1.25 mm); sets
-    /// mesh.element_size (a --set of it wins) and reports the level's measured error.
-    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
-    accuracy: Option<Accuracy>,
-}
-
-#[derive(Args, Debug)]
-struct MergeArgs {
-    /// The output folders of the shards (of one sweep).
-    #[arg(value_name = "DIR", required = true)]
-    dirs: Vec<PathBuf>,
-    /// Output folder for the combined results.
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
-    /// Maps drawn at once (default: every core).
-    #[arg(long, value_name = "N")]
-    jobs: Option<usize>,
-}
-
-#[derive(Args, Debug)]
-struct BenchArgs {
-    /// Print one JSON object instead of a table.
-    #[arg(long)]
-    json: bool,
-    /// Repetitions per measurement (the median is reported).
-    #[arg(long, default_value_t = 7)]
-    repetitions: usize,
-    /// Also compare ways of resolving friction within a load step (implicit with the exact or
-    /// the symmetric Jacobian, lagged, lagged to a fixed point) on the open box.
-    #[arg(long)]
-    friction: bool,
-}
-
-fn parse_accuracy(text: &str) -> Result<Accuracy, String> {
-    Accuracy::parse(text)
-}
-
-/// The overrides of an accuracy level, before the user's own (which win).
-fn with_accuracy(level: Option<Accuracy>, set: &[String]) -> Vec<String> {
-    let mut all = level.map(|a| a.overrides()).unwrap_or_default();
-    all.extend_from_slice(set);
-    all
-}
-
-/// The scene options shared by the subcommands that read a scene.
-#[derive(Args, Debug, Clone, Default)]
-struct SceneArgs {
-    /// Scene file (TOML); without it, the embedded default (the paper's glass fabric).
-    #[arg(long, value_name = "SCENE.toml")]
-    scene: Option<PathBuf>,
-    /// Override one scene key; VALUE is a TOML literal, e.g. --set fabric.a=0.05 or
-    /// --set fabric.l0=[5.0,4.0]. Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
-}
+use cli::{
+    BenchArgs, Cli, Command, ConvergeArgs, FitArgs, LawArgs, MergeArgs, RunArgs, SceneArgs,
+    SweepArgs, TuiArgs, with_accuracy,
+};
 
 impl SceneArgs {
     fn load(&self) -> Result<Scene, Failure> {
@@ -191,47 +36,6 @@ impl SceneArgs {
             .map_err(|e| Failure::BadInput(e.to_string()))?;
         Scene::load(self.scene.as_deref(), &overrides).map_err(|e| Failure::BadInput(e.to_string()))
     }
-}
-
-#[derive(Args, Debug)]
-struct LawArgs {
-    /// Warp strain ε11 (in [-0.05, 0.10]).
-    #[arg(
-        long,
-        allow_negative_numbers = true,
-        required_unless_present = "curves"
-    )]
-    eps1: Option<f64>,
-    /// Weft strain ε22 (in [-0.05, 0.10]).
-    #[arg(
-        long,
-        allow_negative_numbers = true,
-        required_unless_present = "curves"
-    )]
-    eps2: Option<f64>,
-    /// Write the paper's Figure 6 (figure6.csv, figure6.png) into --out instead.
-    #[arg(long, conflicts_with_all = ["eps1", "eps2"], requires = "out")]
-    curves: bool,
-    /// Output folder for --curves.
-    #[arg(long, value_name = "DIR")]
-    out: Option<PathBuf>,
-    #[command(flatten)]
-    scene: SceneArgs,
-}
-
-#[derive(Args, Debug)]
-struct FitArgs {
-    /// Measured curves: CSV with header eps1,eps2,t11,t22 (strains, tensions per yarn in N).
-    #[arg(value_name = "DATA.csv")]
-    data: PathBuf,
-    /// Also identify the yarn stiffness C (one value for both yarns).
-    #[arg(long)]
-    fit_c: bool,
-    /// Folder for fit.png (default: the folder of DATA.csv).
-    #[arg(long, value_name = "DIR")]
-    out: Option<PathBuf>,
-    #[command(flatten)]
-    scene: SceneArgs,
 }
 
 /// Why a command did not succeed.
@@ -275,7 +79,7 @@ fn main() -> ExitCode {
 /// `wovenform converge`: the mesh and step ladders, their errors and cost, the table, the CSV
 /// and the error-against-time chart.
 fn converge(args: ConvergeArgs) -> Result<(), Failure> {
-    use wovenform::converge::{self as study, FIGURES};
+    use wovenform::converge as study;
     let scene = SceneArgs {
         scene: Some(args.scene.clone()),
         set: args.set.clone(),
@@ -327,111 +131,14 @@ fn converge(args: ConvergeArgs) -> Result<(), Failure> {
     let steps = study::step_ladder(&scene, &counts, &mut tick);
     bar.finish_and_clear();
 
-    let mut csv = String::from(
-        "ladder,element_size_mm,max_step,dofs,steps,newton_iterations,wall_s,converged,max_shear_deg,punch_force_n,draw_in_mm,max_tension_n,err_max_shear_deg,err_punch_force_pct,err_draw_in_mm,err_max_tension_pct\n",
-    );
-    println!(
-        "{:<6} {:>7} {:>6} {:>6} {:>5} {:>6} {:>8}  {:>9} {:>8} {:>8} {:>8}   errors: {:>7} {:>7} {:>7} {:>7}",
-        "ladder",
-        "h mm",
-        "Δλ",
-        "dofs",
-        "steps",
-        "Newton",
-        "wall s",
-        "shear °",
-        "force N",
-        "draw mm",
-        "T N",
-        "shear °",
-        "force %",
-        "draw mm",
-        "T %"
-    );
-    for ladder in [&mesh, &steps] {
-        for (i, r) in ladder.rungs.iter().enumerate() {
-            let e: Vec<f64> = (0..FIGURES.len()).map(|k| ladder.error(i, k)).collect();
-            let f = r.figures;
-            csv.push_str(&format!(
-                "{},{},{},{},{},{},{:.3},{},{:.4},{:.2},{:.4},{:.2},{:.4},{:.3},{:.4},{:.3}\n",
-                r.ladder,
-                r.element_size_mm,
-                r.max_step,
-                r.dofs,
-                r.steps,
-                r.newton_iterations,
-                r.wall_s,
-                r.converged,
-                f[0],
-                f[1],
-                f[2],
-                f[3],
-                e[0],
-                e[1],
-                e[2],
-                e[3]
-            ));
-            println!(
-                "{:<6} {:>7} {:>6.4} {:>6} {:>5} {:>6} {:>8.2}  {:>9.3} {:>8.1} {:>8.3} {:>8.1}           {:>7.3} {:>7.2} {:>7.3} {:>7.2}{}",
-                r.ladder,
-                r.element_size_mm,
-                r.max_step,
-                r.dofs,
-                r.steps,
-                r.newton_iterations,
-                r.wall_s,
-                f[0],
-                f[1],
-                f[2],
-                f[3],
-                e[0],
-                e[1],
-                e[2],
-                e[3],
-                if r.converged {
-                    ""
-                } else {
-                    "  (did not converge)"
-                }
-            );
-        }
-        let refs: Vec<String> = FIGURES
-            .iter()
-            .zip(&ladder.reference)
-            .map(|(name, r)| match r.order {
-                Some(p) => format!("{name} {:.4} (Richardson, order {p:.2})", r.value),
-                None => format!("{name} {:.4} (the finest rung)", r.value),
-            })
-            .collect();
-        println!(
-            "reference of the {} ladder: {}",
-            ladder.rungs[0].ladder,
-            refs.join("; ")
-        );
-    }
-    // The accuracy levels, where the mesh ladder has their element sizes.
-    for level in wovenform::accuracy::Accuracy::ALL {
-        if let Some(i) = mesh
-            .rungs
-            .iter()
-            .position(|r| (r.element_size_mm - level.element_size_mm()).abs() < 1e-9)
-        {
-            println!(
-                "{level} ({} mm): max shear error {:.2}°, punch force error {:.2} %, {:.2} s on one core",
-                level.element_size_mm(),
-                mesh.error(i, 0),
-                mesh.error(i, 1),
-                mesh.rungs[i].wall_s
-            );
-        }
-    }
+    print!("{}", wovenform::report::converge::table(&mesh, &steps));
     println!(
         "\nerror against wall time (S, F: the mesh ladder's max shear in °, punch force in %; \
          s, f: the step ladder's)\n{}",
         wovenform::report::converge::text_chart(&mesh, &steps, 60, 14)
     );
     let csv_path = args.out.join("converge.csv");
-    std::fs::write(&csv_path, csv)
+    std::fs::write(&csv_path, wovenform::report::converge::csv(&mesh, &steps))
         .map_err(|e| Failure::Run(format!("{}: {e}", csv_path.display())))?;
     let png = args.out.join("converge.png");
     wovenform::report::converge::chart(&mesh, &steps)
@@ -855,128 +562,20 @@ fn bench(args: BenchArgs) -> Result<(), Failure> {
     } else {
         Vec::new()
     };
-    let open = &drawings[0].1;
-    if args.json {
-        let run_json = |name: &str, r: &b::BoxRun| {
-            serde_json::json!({
-                "name": name, "wall_s": r.wall_s, "dofs": r.dofs, "steps": r.steps,
-                "newton_iterations": r.newton_iterations,
-                "newton_iterations_per_step": r.iterations_per_step(),
-                "krylov_iterations": r.krylov_iterations,
-                "newton_iteration_s": r.iteration_s(),
-                "assembly_with_tangent_s": r.assembly_s, "contact_with_blocks_s": r.contact_s,
-                "bare_factor_solve_s": r.bare_factor_solve_s,
-                "iteration_over_factor_solve": r.iteration_over_factor_solve(),
-                "max_shear_deg": r.max_shear_deg, "max_tension_n": r.max_tension_n,
-                "punch_force_n": r.punch_force_n,
-            })
-        };
-        let obj = serde_json::json!({
-            "law_evals_per_s": rates[0].per_second,
-            "element_evals_per_s": rates[1].per_second,
-            "open_box_standard_wall_s": open.wall_s,
-            "open_box_dofs": open.dofs,
-            "open_box_steps": open.steps,
-            "open_box_newton_iterations": open.newton_iterations,
-            "open_box_krylov_iterations": open.krylov_iterations,
-            "newton_iteration_s": open.iteration_s(),
-            "bare_factor_solve_s": open.bare_factor_solve_s,
-            "iteration_over_factor_solve": open.iteration_over_factor_solve(),
-            "tight_box_standard_wall_s": drawings[1].1.wall_s,
-            "open_box_friction_0_05_wall_s": drawings[2].1.wall_s,
-            "drawings": drawings.iter().map(|(n, r)| run_json(n, r)).collect::<Vec<_>>(),
-            "friction_resolution": friction.iter().map(|(n, r)| match r {
-                Ok(r) => run_json(n, r),
-                Err(e) => serde_json::json!({"name": n, "failure": e}),
-            }).collect::<Vec<_>>(),
-            "dof_ladder": ladder.iter().map(|(d, w)| serde_json::json!({"dofs": d, "wall_s": w})).collect::<Vec<_>>(),
-            "wall_dof_exponent": exponent,
-            "sweep_designs_per_min": {"jobs_1": one, "jobs_2": two},
-            "repetitions": reps,
-        });
-        println!("{obj}");
-        return Ok(());
-    }
-    println!(
-        "one thread unless stated; medians of {reps} repetitions (the drawings: of {box_reps})"
-    );
-    for r in &rates {
-        let lo = r.samples.iter().cloned().fold(f64::INFINITY, f64::min);
-        let hi = r.samples.iter().cloned().fold(0.0, f64::max);
-        println!(
-            "{:<48} {:>12.3e} /s  (range {lo:.2e} to {hi:.2e})",
-            r.name, r.per_second
-        );
-    }
-    let ms = |s: f64| s * 1e3;
-    for (name, run) in &drawings {
-        println!(
-            "{:<48} {:>12.3} s   (standard, 2.5 mm: {} dofs, {} steps, {} Newton iterations, {:.1} a step; range {:.2} to {:.2} s)",
-            format!("{name}, whole run"),
-            run.wall_s,
-            run.dofs,
-            run.steps,
-            run.newton_iterations,
-            run.iterations_per_step(),
-            run.samples.iter().cloned().fold(f64::INFINITY, f64::min),
-            run.samples.iter().cloned().fold(0.0, f64::max)
-        );
-    }
-    println!(
-        "{:<48} {:>12.3} ms  (the open box's run over its iterations; on its final state: an assembly with the tangent {:.3} ms, of it the contact {:.3} ms; {} GMRES iterations in the run)",
-        "one Newton iteration",
-        ms(open.iteration_s()),
-        ms(open.assembly_s),
-        ms(open.contact_s),
-        open.krylov_iterations
-    );
-    println!(
-        "{:<48} {:>12.2}   (bare factorization + solve of the last tangent: {:.3} ms)",
-        "Newton iteration / bare factorization + solve",
-        open.iteration_over_factor_solve(),
-        ms(open.bare_factor_solve_s)
-    );
-    let pts: Vec<String> = ladder
-        .iter()
-        .map(|(d, w)| format!("{d} dofs {w:.2} s"))
-        .collect();
-    println!(
-        "{:<48} {:>12.2}   ({})",
-        "wall time ∝ dofs^k, k =",
+    let report = wovenform::report::bench::BenchReport {
+        reps,
+        box_reps,
+        rates,
+        drawings,
+        ladder,
         exponent,
-        pts.join(", ")
-    );
-    println!(
-        "{:<48} {:>12.1} /min with 1 job, {:.1} /min with 2 jobs (speed-up {:.2})",
-        "sweep throughput (8 box designs, coarse)",
-        one,
-        two,
-        two / one
-    );
-    if !friction.is_empty() {
-        println!(
-            "\nfriction's normal force and direction, open box at standard (medians of {}):",
-            box_reps.min(3)
-        );
-        println!(
-            "  {:<36} {:>7} {:>6} {:>7} {:>9} {:>10} {:>9} {:>9}",
-            "resolved", "wall s", "steps", "Newton", "GMRES", "force N", "tension N", "shear °"
-        );
-        for (name, run) in &friction {
-            match run {
-                Ok(r) => println!(
-                    "  {name:<36} {:>7.2} {:>6} {:>7} {:>9} {:>10.1} {:>9.1} {:>9.2}",
-                    r.wall_s,
-                    r.steps,
-                    r.newton_iterations,
-                    r.krylov_iterations,
-                    r.punch_force_n,
-                    r.max_tension_n,
-                    r.max_shear_deg
-                ),
-                Err(e) => println!("  {name:<36} failed: {e}"),
-            }
-        }
+        sweep_per_min: [one, two],
+        friction,
+    };
+    if args.json {
+        println!("{}", report.to_json());
+    } else {
+        print!("{}", report.to_text());
     }
     Ok(())
 }

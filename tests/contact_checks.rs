@@ -49,10 +49,19 @@ fn setup(cases: &[Case], mu: f64) -> (Contact, Vec<[f64; 3]>, f64) {
         die,
         band: 2.5,
     };
-    let n = cases.len();
-    let mut contact = Contact::new(
+    let mut contact = contact_with(tools, Some(holder), mu, cases.len());
+    let start: Vec<[f64; 3]> = cases.iter().map(|c| c.start).collect();
+    let lambda = 0.3;
+    contact.begin_step(0.25, lambda, &start);
+    let now: Vec<[f64; 3]> = cases.iter().map(|c| c.now).collect();
+    (contact, now, lambda)
+}
+
+/// Contact terms for `n` nodes of 6.25 mm² and stiffness `K` (N/mm) with the tools and holder.
+fn contact_with(tools: Vec<ToolMotion>, holder: Option<Holder>, mu: f64, n: usize) -> Contact {
+    Contact::new(
         tools,
-        Some(holder),
+        holder,
         ContactOptions {
             friction: mu,
             slip_regularisation: 0.025,
@@ -64,12 +73,39 @@ fn setup(cases: &[Case], mu: f64) -> (Contact, Vec<[f64; 3]>, f64) {
         &vec![K; n],
         1.0,
         5.0,
-    );
-    let start: Vec<[f64; 3]> = cases.iter().map(|c| c.start).collect();
-    let lambda = 0.3;
-    contact.begin_step(0.25, lambda, &start);
-    let now: Vec<[f64; 3]> = cases.iter().map(|c| c.now).collect();
-    (contact, now, lambda)
+    )
+}
+
+/// Node `i`'s block against central differences of the residual: the worst error relative to
+/// the block's largest entry, the block and the differences.
+fn block_error(
+    contact: &Contact,
+    lambda: f64,
+    x: &[[f64; 3]],
+    i: usize,
+) -> (f64, [[f64; 3]; 3], [[f64; 3]; 3]) {
+    let mut r = vec![0.0; 3 * x.len()];
+    let mut blocks = vec![NodeBlock::default(); x.len()];
+    contact.add(lambda, x, &mut r, Some(&mut blocks)).unwrap();
+    let j = blocks[i].total();
+    let scale = j.iter().flatten().fold(1.0f64, |m, v| m.max(v.abs()));
+    let h = 1e-6;
+    let mut worst = 0.0f64;
+    let mut fd = [[0.0; 3]; 3];
+    for b in 0..3 {
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[i][b] += h;
+        xm[i][b] -= h;
+        let (rp, rm) = (
+            residual(contact, lambda, &xp),
+            residual(contact, lambda, &xm),
+        );
+        for a in 0..3 {
+            fd[a][b] = (rp[3 * i + a] - rm[3 * i + a]) / (2.0 * h);
+            worst = worst.max((fd[a][b] - j[a][b]).abs() / scale);
+        }
+    }
+    (worst, j, fd)
 }
 
 fn residual(contact: &Contact, lambda: f64, x: &[[f64; 3]]) -> Vec<f64> {
@@ -138,29 +174,8 @@ fn node_blocks_are_the_derivative_of_the_forces() {
     for mu in [0.0, 0.2] {
         let cases = cases();
         let (contact, x, lambda) = setup(&cases, mu);
-        let mut r = vec![0.0; 3 * x.len()];
-        let mut blocks = vec![NodeBlock::default(); x.len()];
-        contact.add(lambda, &x, &mut r, Some(&mut blocks)).unwrap();
         for (i, case) in cases.iter().enumerate() {
-            let j = blocks[i].total();
-            let h = 1e-6;
-            let mut worst = 0.0f64;
-            let scale = j.iter().flatten().fold(1.0f64, |m, v| m.max(v.abs()));
-            let mut fd = [[0.0; 3]; 3];
-            for b in 0..3 {
-                let mut xp = x.clone();
-                let mut xm = x.clone();
-                xp[i][b] += h;
-                xm[i][b] -= h;
-                let (rp, rm) = (
-                    residual(&contact, lambda, &xp),
-                    residual(&contact, lambda, &xm),
-                );
-                for a in 0..3 {
-                    fd[a][b] = (rp[3 * i + a] - rm[3 * i + a]) / (2.0 * h);
-                    worst = worst.max((fd[a][b] - j[a][b]).abs() / scale);
-                }
-            }
+            let (worst, j, fd) = block_error(&contact, lambda, &x, i);
             println!("μ {mu}, {}: worst relative error {worst:.2e}", case.name);
             assert!(
                 worst < 1e-5,
@@ -203,46 +218,15 @@ fn blocks_hold_in_the_corner_blend_of_a_box_punch() {
         (g1 - 1.0).abs() > 0.01 || (g2 - 1.0).abs() > 0.01,
         "not in the blend"
     );
-    let n = 2;
-    let mut contact = Contact::new(
-        tools,
-        None,
-        ContactOptions {
-            friction: 0.2,
-            slip_regularisation: 0.025,
-            penalty_factor: 1.0,
-            contact_smoothing: 0.025,
-            lagged: false,
-        },
-        vec![6.25; n],
-        &vec![K; n],
-        1.0,
-        5.0,
-    );
+    let mut contact = contact_with(tools, None, 0.2, 2);
     let start = [
         [p1[0] + 0.4, p1[1] - 0.2, p1[2] + 0.6],
         [p2[0] - 0.3, p2[1] + 0.5, p2[2] + 0.5],
     ];
     contact.begin_step(0.25, 0.3, &start);
     let x = vec![p1, p2];
-    let mut r = vec![0.0; 3 * n];
-    let mut blocks = vec![NodeBlock::default(); n];
-    contact.add(0.3, &x, &mut r, Some(&mut blocks)).unwrap();
-    for i in 0..n {
-        let j = blocks[i].total();
-        let scale = j.iter().flatten().fold(1.0f64, |m, v| m.max(v.abs()));
-        let h = 1e-6;
-        let mut worst = 0.0f64;
-        for b in 0..3 {
-            let (mut xp, mut xm) = (x.clone(), x.clone());
-            xp[i][b] += h;
-            xm[i][b] -= h;
-            let (rp, rm) = (residual(&contact, 0.3, &xp), residual(&contact, 0.3, &xm));
-            for a in 0..3 {
-                let fd = (rp[3 * i + a] - rm[3 * i + a]) / (2.0 * h);
-                worst = worst.max((fd - j[a][b]).abs() / scale);
-            }
-        }
+    for i in 0..x.len() {
+        let (worst, _, _) = block_error(&contact, 0.3, &x, i);
         println!("blend node {i}: worst relative error {worst:.2e}");
         assert!(worst < 1e-5, "node {i}: {worst}");
     }

@@ -102,7 +102,6 @@ fn contact_for(
     h: f64,
 ) -> Contact {
     let (area, cells) = node_shares(model);
-    let law = &model.law.p;
     Contact::new(
         tools,
         holder,
@@ -115,7 +114,7 @@ fn contact_for(
         },
         area,
         &cells,
-        0.5 * (law.c[0] + law.c[1]) / (0.5 * (law.l0[0] + law.l0[1])),
+        model.law.stiffness_per_cell(),
         2.0 * h,
     )
 }

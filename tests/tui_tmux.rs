@@ -65,18 +65,7 @@ impl Tmux {
 
     /// Waits until the screen shows `text`; returns the screen.
     fn wait_for(&self, text: &str, timeout_s: u64) -> String {
-        let start = Instant::now();
-        loop {
-            let s = self.screen();
-            if s.contains(text) {
-                return s;
-            }
-            assert!(
-                start.elapsed() < Duration::from_secs(timeout_s),
-                "waited {timeout_s} s for {text:?}; the screen:\n{s}"
-            );
-            std::thread::sleep(Duration::from_millis(200));
-        }
+        self.wait_for_any(&[text.to_string()], timeout_s)
     }
 
     /// [`Tmux::wait_for`], then the screen a moment later: a capture can catch a frame half
@@ -119,6 +108,18 @@ impl Drop for Tmux {
     }
 }
 
+/// The explorer in tmux on the paper's tight and open radii (8 designs) meshed at
+/// `element_size` mm, from a sweep file `file` written into `dir`.
+fn explorer_on_the_paper_grid(name: &str, dir: &Path, file: &str, element_size: f64) -> Tmux {
+    let sweep = format!(
+        "# The paper's tight and open radii.\nbase = {:?}\n\n[scene.mesh]\nelement_size = {element_size:?}\n\n[sweep]\nr = [5.0, 10.0]\nrp = [6.0, 15.0]\nrm = [5.0, 10.0]\n",
+        common::preset("paper-box-open.toml")
+    );
+    std::fs::write(dir.join(file), sweep).unwrap();
+    let command = format!("{} tui {file}", env!("CARGO_BIN_EXE_wovenform"));
+    Tmux::start(name, dir, &command)
+}
+
 /// The line of the results table of design `index`.
 fn design_line(screen: &str, index: usize) -> String {
     screen
@@ -131,13 +132,8 @@ fn design_line(screen: &str, index: usize) -> String {
 #[test]
 fn a_session_open_run_sort_detail_export_quit() {
     let dir = tempfile::tempdir().unwrap();
-    let sweep = format!(
-        "# The paper's tight and open radii, standard mesh (long enough to be seen running).\nbase = {:?}\n\n[scene.mesh]\nelement_size = 2.5\n\n[sweep]\nr = [5.0, 10.0]\nrp = [6.0, 15.0]\nrm = [5.0, 10.0]\n",
-        common::preset("paper-box-open.toml")
-    );
-    std::fs::write(dir.path().join("small.toml"), sweep).unwrap();
-    let command = format!("{} tui small.toml", env!("CARGO_BIN_EXE_wovenform"));
-    let t = Tmux::start("session", dir.path(), &command);
+    // The standard mesh: long enough to be seen running.
+    let t = explorer_on_the_paper_grid("session", dir.path(), "small.toml", 2.5);
 
     let s = t.wait_for("ready: r runs 8 designs", 20);
     println!("— opened:\n{s}");
@@ -223,13 +219,7 @@ fn cancel_stops_the_workers_promptly_and_keeps_the_finished_rows() {
     // The default grid on a fine mesh (1.25 mm): 2 to 5 s a design, so that it is still
     // running when one has finished; cancel then.
     let dir = tempfile::tempdir().unwrap();
-    let sweep = format!(
-        "base = {:?}\n\n[scene.mesh]\nelement_size = 1.25\n\n[sweep]\nr = [5.0, 10.0]\nrp = [6.0, 15.0]\nrm = [5.0, 10.0]\n",
-        common::preset("paper-box-open.toml")
-    );
-    std::fs::write(dir.path().join("fine.toml"), sweep).unwrap();
-    let command = format!("{} tui fine.toml", env!("CARGO_BIN_EXE_wovenform"));
-    let t = Tmux::start("cancel", dir.path(), &command);
+    let t = explorer_on_the_paper_grid("cancel", dir.path(), "fine.toml", 1.25);
     t.wait_for("ready: r runs 8 designs", 20);
     t.keys(&["r"]);
     let running: Vec<String> = (1..8).map(|k| format!("running: {k}/8")).collect();

@@ -103,6 +103,14 @@ struct Yarn {
 }
 
 impl CellLaw {
+    /// The mean yarn stiffness over the mean cell length, `C̄/L̄0` (N/mm per cell): the
+    /// tensile stiffness of one cell, the scale of the contact penalty.
+    pub fn stiffness_per_cell(&self) -> f64 {
+        let c_mean = 0.5 * (self.p.c[0] + self.p.c[1]);
+        let l_mean = 0.5 * (self.p.l0[0] + self.p.l0[1]);
+        c_mean / l_mean
+    }
+
     pub fn new(p: CellParams) -> Self {
         let len0 = |a: usize| (p.l0[a] * p.l0[a] + 4.0 * p.e0[a] * p.e0[a]).sqrt();
         CellLaw {

@@ -1,6 +1,10 @@
-//! The chart of `wovenform converge`: each rung's error against its wall time, log-log.
+//! The outputs of `wovenform converge`: each rung's error against its wall time, log-log (PNG
+//! and text), the table and the CSV.
 
-use crate::converge::Ladder;
+use std::fmt::Write as _;
+
+use crate::accuracy::Accuracy;
+use crate::converge::{FIGURES, Ladder};
 use crate::report::plot::{Colour, LegendAt, LineChart, Series};
 
 /// Error of the maximum shear (°) and of the punch force (%) against wall time (s), for the
@@ -123,6 +127,136 @@ fn text_scatter(
     out.push_str(axis.iter().collect::<String>().trim_end());
     out.push_str(&format!("\n{:>width$}\n", x_label, width = w + 8));
     out
+}
+
+/// The rows of both ladders as CSV: each rung's figures and their errors against its ladder's
+/// reference.
+pub fn csv(mesh: &Ladder, steps: &Ladder) -> String {
+    let mut csv = String::from(
+        "ladder,element_size_mm,max_step,dofs,steps,newton_iterations,wall_s,converged,max_shear_deg,punch_force_n,draw_in_mm,max_tension_n,err_max_shear_deg,err_punch_force_pct,err_draw_in_mm,err_max_tension_pct\n",
+    );
+    for ladder in [mesh, steps] {
+        for (i, r) in ladder.rungs.iter().enumerate() {
+            let e = errors(ladder, i);
+            let f = r.figures;
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{},{},{:.3},{},{:.4},{:.2},{:.4},{:.2},{:.4},{:.3},{:.4},{:.3}",
+                r.ladder,
+                r.element_size_mm,
+                r.max_step,
+                r.dofs,
+                r.steps,
+                r.newton_iterations,
+                r.wall_s,
+                r.converged,
+                f[0],
+                f[1],
+                f[2],
+                f[3],
+                e[0],
+                e[1],
+                e[2],
+                e[3]
+            );
+        }
+    }
+    csv
+}
+
+fn errors(ladder: &Ladder, i: usize) -> Vec<f64> {
+    (0..FIGURES.len()).map(|k| ladder.error(i, k)).collect()
+}
+
+/// The table `converge` prints: both ladders' rungs with units, each ladder's reference, and
+/// the accuracy levels' errors where the mesh ladder has their element sizes.
+pub fn table(mesh: &Ladder, steps: &Ladder) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<6} {:>7} {:>6} {:>6} {:>5} {:>6} {:>8}  {:>9} {:>8} {:>8} {:>8}   errors: {:>7} {:>7} {:>7} {:>7}",
+        "ladder",
+        "h mm",
+        "Δλ",
+        "dofs",
+        "steps",
+        "Newton",
+        "wall s",
+        "shear °",
+        "force N",
+        "draw mm",
+        "T N",
+        "shear °",
+        "force %",
+        "draw mm",
+        "T %"
+    );
+    for ladder in [mesh, steps] {
+        for (i, r) in ladder.rungs.iter().enumerate() {
+            let e = errors(ladder, i);
+            let f = r.figures;
+            let _ = writeln!(
+                out,
+                "{:<6} {:>7} {:>6.4} {:>6} {:>5} {:>6} {:>8.2}  {:>9.3} {:>8.1} {:>8.3} {:>8.1}           {:>7.3} {:>7.2} {:>7.3} {:>7.2}{}",
+                r.ladder,
+                r.element_size_mm,
+                r.max_step,
+                r.dofs,
+                r.steps,
+                r.newton_iterations,
+                r.wall_s,
+                f[0],
+                f[1],
+                f[2],
+                f[3],
+                e[0],
+                e[1],
+                e[2],
+                e[3],
+                if r.converged {
+                    ""
+                } else {
+                    "  (did not converge)"
+                }
+            );
+        }
+        let refs: Vec<String> = FIGURES
+            .iter()
+            .zip(&ladder.reference)
+            .map(|(name, r)| match r.order {
+                Some(p) => format!("{name} {:.4} (Richardson, order {p:.2})", r.value),
+                None => format!("{name} {:.4} (the finest rung)", r.value),
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "reference of the {} ladder: {}",
+            ladder.rungs[0].ladder,
+            refs.join("; ")
+        );
+    }
+    write_levels(&mut out, mesh);
+    out
+}
+
+/// The accuracy levels' errors, where the mesh ladder has their element sizes.
+fn write_levels(out: &mut String, mesh: &Ladder) {
+    for level in Accuracy::ALL {
+        if let Some(i) = mesh
+            .rungs
+            .iter()
+            .position(|r| (r.element_size_mm - level.element_size_mm()).abs() < 1e-9)
+        {
+            let _ = writeln!(
+                out,
+                "{level} ({} mm): max shear error {:.2}°, punch force error {:.2} %, {:.2} s on one core",
+                level.element_size_mm(),
+                mesh.error(i, 0),
+                mesh.error(i, 1),
+                mesh.rungs[i].wall_s
+            );
+        }
+    }
 }
 
 #[cfg(test)]

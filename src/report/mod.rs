@@ -1,5 +1,6 @@
 //! Reports: charts (PNG), tables (CSV) and the paper's figures reproduced from the law; the
 //! maps, VTU file and summary of a drawing run; the report sheet of a design sweep.
+pub mod bench;
 pub mod converge;
 pub mod figure6;
 pub mod maps;

@@ -250,9 +250,9 @@ impl Contact {
         let pair = &self.pairs[t * self.nodes() + i];
         let (mu, eps) = (self.options.friction, self.options.slip_regularisation);
         let mut out = Terms::default();
+        let rel = self.relative(t, i, lambda, p);
         // The merit's friction, frozen at the Newton iterate, counts wherever the trial lies.
         if mu > 0.0 && pair.lag_force > 0.0 {
-            let rel = self.relative(t, i, lambda, p);
             out.energy_frozen += friction::potential(mu, eps, pair.lag_force, pair.lag_normal, rel);
         }
         let (k, delta) = (self.penalty[i], self.options.contact_smoothing);
@@ -294,7 +294,7 @@ impl Contact {
                 normal_force,
                 normal_force_gradient: at.1,
                 n: at.0,
-                rel: self.relative(t, i, lambda, p),
+                rel,
             };
             let f = friction::friction(&c, at.2.as_ref());
             out.largest = out.largest.max(f.magnitude);
@@ -506,9 +506,7 @@ impl NodalTerms for Contact {
                     self.friction_normal(t, i, lambda, x[i])
                 };
                 let carried = if normal_force > 0.0 {
-                    let a = self.anchor(t, i, lambda);
-                    let rel = [x[i][0] - a[0], x[i][1] - a[1], x[i][2] - a[2]];
-                    let s = friction::tangential(normal, rel);
+                    let s = friction::tangential(normal, self.relative(t, i, lambda, x[i]));
                     let len = dot(s, s).sqrt();
                     let keep = (10.0 * eps).min(len);
                     if len > 0.0 {

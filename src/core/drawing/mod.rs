@@ -17,7 +17,7 @@ use std::ops::ControlFlow;
 use super::contact::{Contact, ContactOptions, Holder, ToolMotion};
 use super::law::{CellLaw, CellParams};
 use super::mesh::Mesh;
-use super::solver::{LinearPrescribed, Model, Solver, SolverOptions};
+use super::solver::{LinearPrescribed, Model, SolveStats, Solver, SolverOptions};
 use super::tools::Tool;
 
 /// The punch and die pair.
@@ -244,9 +244,6 @@ impl DrawingProblem {
             band: h,
         });
         let (area, cells) = node_shares(model);
-        let law = &model.law.p;
-        let c_mean = 0.5 * (law.c[0] + law.c[1]);
-        let l_mean = 0.5 * (law.l0[0] + law.l0[1]);
         Contact::new(
             tools,
             holder,
@@ -259,7 +256,7 @@ impl DrawingProblem {
             },
             area,
             &cells,
-            c_mean / l_mean,
+            model.law.stiffness_per_cell(),
             2.0 * h,
         )
     }
@@ -337,6 +334,20 @@ pub struct Prepared {
     pub left_out: Vec<LeftOut>,
 }
 
+impl Prepared {
+    /// The fields and figures of the drawing's current state (as converged), after `stats`.
+    pub fn result(&self, problem: &DrawingProblem, stats: SolveStats) -> DrawingResult {
+        collect::collect(
+            problem,
+            &self.model,
+            &self.contact,
+            self.quarter,
+            stats,
+            self.left_out.clone(),
+        )
+    }
+}
+
 impl DrawingProblem {
     /// Meshes the blank and builds the model and the contact terms, or says why the problem
     /// has no answer.
@@ -399,12 +410,10 @@ pub fn solve_until(
             return collect::failed_early(problem, mesh, quarter, failure, problem.left_out());
         }
     };
-    let dofs = p.model.free_dofs();
     let mut solver = Solver::new(&mut p.model, problem.solver.clone());
     let outcome = solver.solve(&p.prescribed, &mut p.contact, progress);
     let stats = solver.stats.clone();
-    let mut result = collect::collect(problem, &p.model, &p.contact, p.quarter, stats, p.left_out);
-    result.dofs = dofs;
+    let mut result = p.result(problem, stats);
     result.converged = outcome.is_ok();
     result.failure = outcome.err().map(DrawingFailure::Solver);
     result

@@ -147,13 +147,6 @@ impl<'a> Solver<'a> {
         }
     }
 
-    /// The residual over the free dofs at the current state, and its load scale (N): for
-    /// checks and benchmarks.
-    pub fn residual(&mut self, lambda: f64, terms: &dyn NodalTerms) -> (Vec<f64>, f64) {
-        let a = self.ws.assemble(self.model, lambda, terms, false);
-        (a.r, a.scale)
-    }
-
     /// One assembly with the tangent at the current state (for benchmarks).
     pub fn assemble_tangent(&mut self, lambda: f64, terms: &dyn NodalTerms) {
         self.ws.assemble(self.model, lambda, terms, true);

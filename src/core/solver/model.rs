@@ -41,7 +41,6 @@ pub struct Model {
     pub crimp: Vec<[CrimpState; GAUSS]>,
     /// Equation number of each dof (`usize::MAX` when prescribed).
     pub(super) eq: Vec<usize>,
-    prescribed_dofs: Vec<usize>,
     /// Slots of each element's upper-triangle pairs (`i ≤ j` over 12 dofs), `u32::MAX` if none.
     pub(super) element_slots: Vec<[u32; 78]>,
     /// Slots of each node's 3×3 block, row-major, `u32::MAX` where a dof is prescribed. Both
@@ -167,7 +166,6 @@ impl Model {
             u: vec![0.0; mesh.dofs()],
             crimp: vec![[law.initial_state(); GAUSS]; ne],
             eq,
-            prescribed_dofs: prescribed_dofs.to_vec(),
             element_slots,
             node_slots,
             linear,
@@ -178,11 +176,6 @@ impl Model {
             mesh,
             law,
         })
-    }
-
-    /// The prescribed dofs (where reactions act).
-    pub fn prescribed_dofs(&self) -> &[usize] {
-        &self.prescribed_dofs
     }
 
     /// Free (solved-for) dofs.

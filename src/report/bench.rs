@@ -1,0 +1,190 @@
+//! The text and JSON of `wovenform bench`: what [`crate::bench`] measured, with units.
+
+use std::fmt::Write as _;
+
+use crate::bench::{BoxRun, Rate};
+
+/// Everything one `bench` measured.
+pub struct BenchReport {
+    /// Repetitions of the law and element rates, and of each drawing.
+    pub reps: usize,
+    pub box_reps: usize,
+    /// The law's and the element's evaluation rates.
+    pub rates: [Rate; 2],
+    /// The timed drawings: the open box first, then the tight box, then the open box at μ 0.05.
+    pub drawings: Vec<(&'static str, BoxRun)>,
+    /// Dofs and wall time (s) of the open box over a mesh ladder, and the exponent of the fit.
+    pub ladder: Vec<(usize, f64)>,
+    pub exponent: f64,
+    /// Designs per minute with one and with two jobs.
+    pub sweep_per_min: [f64; 2],
+    /// How friction is resolved in a step (empty unless asked for).
+    pub friction: Vec<(String, Result<BoxRun, String>)>,
+}
+
+fn run_json(name: &str, r: &BoxRun) -> serde_json::Value {
+    serde_json::json!({
+        "name": name, "wall_s": r.wall_s, "dofs": r.dofs, "steps": r.steps,
+        "newton_iterations": r.newton_iterations,
+        "newton_iterations_per_step": r.iterations_per_step(),
+        "krylov_iterations": r.krylov_iterations,
+        "newton_iteration_s": r.iteration_s(),
+        "assembly_with_tangent_s": r.assembly_s, "contact_with_blocks_s": r.contact_s,
+        "bare_factor_solve_s": r.bare_factor_solve_s,
+        "iteration_over_factor_solve": r.iteration_over_factor_solve(),
+        "max_shear_deg": r.max_shear_deg, "max_tension_n": r.max_tension_n,
+        "punch_force_n": r.punch_force_n,
+    })
+}
+
+fn range(samples: &[f64]) -> (f64, f64) {
+    let lo = samples.iter().cloned().fold(f64::INFINITY, f64::min);
+    let hi = samples.iter().cloned().fold(0.0, f64::max);
+    (lo, hi)
+}
+
+impl BenchReport {
+    fn open(&self) -> &BoxRun {
+        &self.drawings[0].1
+    }
+
+    /// One JSON object (scripts rely on `open_box_standard_wall_s`,
+    /// `iteration_over_factor_solve`, `open_box_newton_iterations`, `open_box_steps`).
+    pub fn to_json(&self) -> serde_json::Value {
+        let open = self.open();
+        let [one, two] = self.sweep_per_min;
+        serde_json::json!({
+            "law_evals_per_s": self.rates[0].per_second,
+            "element_evals_per_s": self.rates[1].per_second,
+            "open_box_standard_wall_s": open.wall_s,
+            "open_box_dofs": open.dofs,
+            "open_box_steps": open.steps,
+            "open_box_newton_iterations": open.newton_iterations,
+            "open_box_krylov_iterations": open.krylov_iterations,
+            "newton_iteration_s": open.iteration_s(),
+            "bare_factor_solve_s": open.bare_factor_solve_s,
+            "iteration_over_factor_solve": open.iteration_over_factor_solve(),
+            "tight_box_standard_wall_s": self.drawings[1].1.wall_s,
+            "open_box_friction_0_05_wall_s": self.drawings[2].1.wall_s,
+            "drawings": self.drawings.iter().map(|(n, r)| run_json(n, r)).collect::<Vec<_>>(),
+            "friction_resolution": self.friction.iter().map(|(n, r)| match r {
+                Ok(r) => run_json(n, r),
+                Err(e) => serde_json::json!({"name": n, "failure": e}),
+            }).collect::<Vec<_>>(),
+            "dof_ladder": self.ladder.iter().map(|(d, w)| serde_json::json!({"dofs": d, "wall_s": w})).collect::<Vec<_>>(),
+            "wall_dof_exponent": self.exponent,
+            "sweep_designs_per_min": {"jobs_1": one, "jobs_2": two},
+            "repetitions": self.reps,
+        })
+    }
+
+    /// The table a person reads: one figure a line, with its unit and what it was measured on.
+    pub fn to_text(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "one thread unless stated; medians of {} repetitions (the drawings: of {})",
+            self.reps, self.box_reps
+        );
+        for r in &self.rates {
+            let (lo, hi) = range(&r.samples);
+            let _ = writeln!(
+                out,
+                "{:<48} {:>12.3e} /s  (range {lo:.2e} to {hi:.2e})",
+                r.name, r.per_second
+            );
+        }
+        for (name, run) in &self.drawings {
+            let (lo, hi) = range(&run.samples);
+            let _ = writeln!(
+                out,
+                "{:<48} {:>12.3} s   (standard, 2.5 mm: {} dofs, {} steps, {} Newton iterations, {:.1} a step; range {lo:.2} to {hi:.2} s)",
+                format!("{name}, whole run"),
+                run.wall_s,
+                run.dofs,
+                run.steps,
+                run.newton_iterations,
+                run.iterations_per_step(),
+            );
+        }
+        self.write_iteration(&mut out);
+        self.write_friction(&mut out);
+        out
+    }
+
+    /// Where an iteration's time goes, how the time grows with the dofs, sweep throughput.
+    fn write_iteration(&self, out: &mut String) {
+        let open = self.open();
+        let ms = |s: f64| s * 1e3;
+        let _ = writeln!(
+            out,
+            "{:<48} {:>12.3} ms  (the open box's run over its iterations; on its final state: an assembly with the tangent {:.3} ms, of it the contact {:.3} ms; {} GMRES iterations in the run)",
+            "one Newton iteration",
+            ms(open.iteration_s()),
+            ms(open.assembly_s),
+            ms(open.contact_s),
+            open.krylov_iterations
+        );
+        let _ = writeln!(
+            out,
+            "{:<48} {:>12.2}   (bare factorization + solve of the last tangent: {:.3} ms)",
+            "Newton iteration / bare factorization + solve",
+            open.iteration_over_factor_solve(),
+            ms(open.bare_factor_solve_s)
+        );
+        let pts: Vec<String> = self
+            .ladder
+            .iter()
+            .map(|(d, w)| format!("{d} dofs {w:.2} s"))
+            .collect();
+        let _ = writeln!(
+            out,
+            "{:<48} {:>12.2}   ({})",
+            "wall time ∝ dofs^k, k =",
+            self.exponent,
+            pts.join(", ")
+        );
+        let [one, two] = self.sweep_per_min;
+        let _ = writeln!(
+            out,
+            "{:<48} {:>12.1} /min with 1 job, {:.1} /min with 2 jobs (speed-up {:.2})",
+            "sweep throughput (8 box designs, coarse)",
+            one,
+            two,
+            two / one
+        );
+    }
+
+    /// The comparison of how friction is resolved in a step, when it was measured.
+    fn write_friction(&self, out: &mut String) {
+        if self.friction.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            out,
+            "\nfriction's normal force and direction, open box at standard (medians of {}):",
+            self.box_reps.min(3)
+        );
+        let _ = writeln!(
+            out,
+            "  {:<36} {:>7} {:>6} {:>7} {:>9} {:>10} {:>9} {:>9}",
+            "resolved", "wall s", "steps", "Newton", "GMRES", "force N", "tension N", "shear °"
+        );
+        for (name, run) in &self.friction {
+            let _ = match run {
+                Ok(r) => writeln!(
+                    out,
+                    "  {name:<36} {:>7.2} {:>6} {:>7} {:>9} {:>10.1} {:>9.1} {:>9.2}",
+                    r.wall_s,
+                    r.steps,
+                    r.newton_iterations,
+                    r.krylov_iterations,
+                    r.punch_force_n,
+                    r.max_tension_n,
+                    r.max_shear_deg
+                ),
+                Err(e) => writeln!(out, "  {name:<36} failed: {e}"),
+            };
+        }
+    }
+}
