@@ -1,4 +1,7 @@
-//! What the machine the program runs on allows: the memory a run may take.
+//! What the machine the program runs on allows: the memory a run may take, and whether a
+//! drawing fits in it.
+
+use crate::core::drawing::DrawingProblem;
 
 /// The memory one run may take, bytes: 80 % of what the system reported available
 /// (`MemAvailable` in `/proc/meminfo`) when first asked, or of 10 GiB where it does not say.
@@ -21,6 +24,56 @@ pub fn memory_budget_bytes() -> f64 {
 }
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Whether `problem`'s model fits in `budget` bytes (the estimate of
+/// [`DrawingProblem::size_estimate`]); otherwise what it would need and which element size would
+/// fit, in words.
+pub fn check_fits(problem: &DrawingProblem, budget: f64) -> Result<(), String> {
+    let size = problem.size_estimate();
+    if size.bytes <= budget {
+        return Ok(());
+    }
+    // The smallest element size that fits, by bisection (the estimate falls with h).
+    let fits = |h: f64| {
+        let mut p = problem.clone();
+        p.element_size = h;
+        p.size_estimate().bytes <= budget
+    };
+    let (mut lo, mut hi) = (
+        problem.element_size,
+        0.25 * problem.blank[0].min(problem.blank[1]),
+    );
+    let advice = if fits(hi) {
+        for _ in 0..60 {
+            let mid = (lo * hi).sqrt();
+            if fits(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        format!(
+            "expected mesh.element_size ≥ {:.3} mm for this blank",
+            hi * 1.0005
+        )
+    } else {
+        "expected a smaller blank.size".to_string()
+    };
+    Err(format!(
+        "mesh.element_size = {} mm on a {} × {} mm blank: {:.2e} elements ({} solved) would need about {} of memory, but a run may use at most {} on this machine (80 % of what is available): {advice}",
+        problem.element_size,
+        problem.blank[0],
+        problem.blank[1],
+        size.elements,
+        if problem.quarter_applies() {
+            "a quarter"
+        } else {
+            "the full blank"
+        },
+        show_bytes(size.bytes),
+        show_bytes(budget),
+    ))
+}
 
 /// Bytes as a person reads them: `712 MiB`, `21.3 GiB`, `2.1e4 TiB`.
 pub fn show_bytes(bytes: f64) -> String {

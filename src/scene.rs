@@ -872,7 +872,7 @@ impl Scene {
                 ),
             },
         )?;
-        self.check_size(crate::machine::memory_budget_bytes())?;
+        self.check_size()?;
         let yarns_on_axes = (self.fabric.yarn_angle_deg - 90.0).abs() < 1e-9;
         ok_if(
             m.symmetry != SymmetryChoice::Quarter || yarns_on_axes,
@@ -906,59 +906,13 @@ impl Scene {
         Ok(())
     }
 
-    /// The mesh fits in `budget` bytes (the estimate of [`DrawingProblem::size_estimate`]),
-    /// checked before anything is allocated; otherwise the error says how large is too large
-    /// and which element size would fit.
-    fn check_size(&self, budget: f64) -> Result<(), Broken> {
-        let problem = self.to_problem();
-        let size = problem.size_estimate();
-        if size.bytes <= budget {
-            return Ok(());
-        }
-        // The smallest element size that fits, by bisection (the estimate falls with h).
-        let fits = |h: f64| {
-            let mut p = problem.clone();
-            p.element_size = h;
-            p.size_estimate().bytes <= budget
-        };
-        let (mut lo, mut hi) = (
-            problem.element_size,
-            0.25 * problem.blank[0].min(problem.blank[1]),
-        );
-        let advice = if fits(hi) {
-            for _ in 0..60 {
-                let mid = (lo * hi).sqrt();
-                if fits(mid) {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            format!(
-                "expected mesh.element_size ≥ {:.3} mm for this blank",
-                hi * 1.0005
-            )
-        } else {
-            "expected a smaller blank.size".to_string()
-        };
-        let show = crate::machine::show_bytes;
-        Err(Broken {
+    /// The mesh fits in the machine's memory budget, checked before anything is allocated.
+    fn check_size(&self) -> Result<(), Broken> {
+        let budget = crate::machine::memory_budget_bytes();
+        crate::machine::check_fits(&self.to_problem(), budget).map_err(|detail| Broken {
             key: "mesh.element_size".into(),
             involved: vec!["mesh.element_size", "blank.size"],
-            detail: format!(
-                "mesh.element_size = {} mm on a {} × {} mm blank: {:.2e} elements ({} solved) would need about {} of memory, but a run may use at most {} on this machine (80 % of what is available): {advice}",
-                self.mesh.element_size,
-                self.blank.size.0[0],
-                self.blank.size.0[1],
-                size.elements,
-                if problem.quarter_applies() {
-                    "a quarter"
-                } else {
-                    "the full blank"
-                },
-                show(size.bytes),
-                show(budget),
-            ),
+            detail,
         })
     }
 
