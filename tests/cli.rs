@@ -221,7 +221,7 @@ fn synthetic_csv() -> String {
             .wrapping_add(1442695040888963407);
         ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 1.0
     };
-    let mut text = String::from("eps1,eps2,t11,t22\n");
+    let mut text = String::from("eps1,eps2,t11_n,t22_n\n");
     for k in [1.0, 2.0, 4.0, f64::INFINITY] {
         for i in 1..=50 {
             let e1 = 0.0002 * i as f64;
@@ -308,13 +308,16 @@ fn fit_bad_data_exits_2_naming_file_line_and_column() {
         std::fs::write(&p, text).unwrap();
         p.to_str().unwrap().to_string()
     };
-    let header = file("header.csv", "e1,e2,t11,t22\n0.001,0,1,1\n");
+    let header = file("header.csv", "e1,e2,t11_n,t22_n\n0.001,0,1,1\n");
     assert_bad_input(&["fit", &header], &[&header, "line 1", "eps1"]);
     let number = file(
         "number.csv",
-        "eps1,eps2,t11,t22\n0.001,0,1,1\n0.002,0,abc,1\n",
+        "eps1,eps2,t11_n,t22_n\n0.001,0,1,1\n0.002,0,abc,1\n",
     );
-    assert_bad_input(&["fit", &number], &[&number, "line 3", "column t11", "abc"]);
+    assert_bad_input(
+        &["fit", &number],
+        &[&number, "line 3", "column t11_n", "abc"],
+    );
     let missing = dir.path().join("nothing.csv");
     let missing = missing.to_str().unwrap();
     assert_bad_input(&["fit", missing], &[missing]);

@@ -391,7 +391,7 @@ fn bad_input_is_refused_before_any_work() {
 
 #[test]
 fn the_preset_sweep_holds_both_paper_designs() {
-    let plan = wovenform::sweep::Plan::load(&preset("paper-box-sweep.toml"), &[]).unwrap();
+    let plan = wovenform::study::sweep::Plan::load(&preset("paper-box-sweep.toml"), &[]).unwrap();
     let designs = plan.designs();
     let columns: Vec<&str> = plan.axes.iter().map(|a| a.column.as_str()).collect();
     assert_eq!(columns, ["r", "rp", "rm", "friction", "holder_pressure"]);

@@ -194,7 +194,7 @@ fn invalid_and_failed_designs_show_their_reason() {
     let mut app = explorer(false);
     app.on_key(key(KeyCode::Char('r')));
     let mut bad = row(&app, 3, FIGURES[3]);
-    bad.verdict = wovenform::report::sheet::Verdict::Failed;
+    bad.verdict = wovenform::verdict::Verdict::Failed;
     bad.converged = false;
     bad.failure = Some("the step from load 0.9100 could not converge".into());
     app.on_message(Message::Row(Box::new(bad)));

@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use crate::bench::{BoxRun, Rate};
+use crate::study::bench::{BoxRun, Rate};
 
 /// Everything one `bench` measured.
 pub struct BenchReport {

@@ -4,8 +4,8 @@
 use std::fmt::Write as _;
 
 use crate::accuracy::Accuracy;
-use crate::converge::{FIGURES, Ladder};
 use crate::report::plot::{Colour, LegendAt, LineChart, Series};
+use crate::study::converge::{FIGURES, Ladder};
 
 /// Error of the maximum shear (°) and of the punch force (%) against wall time (s), for the
 /// mesh ladder and the step ladder. Rungs with no error to show (the reference itself) are
@@ -132,36 +132,52 @@ fn text_scatter(
 /// The rows of both ladders as CSV: each rung's figures and their errors against its ladder's
 /// reference.
 pub fn csv(mesh: &Ladder, steps: &Ladder) -> String {
-    let mut csv = String::from(
-        "ladder,element_size_mm,max_step,dofs,steps,newton_iterations,wall_s,converged,max_shear_deg,punch_force_n,draw_in_mm,max_tension_n,err_max_shear_deg,err_punch_force_pct,err_draw_in_mm,err_max_tension_pct\n",
-    );
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let header = [
+        "ladder",
+        "element_size_mm",
+        "max_step",
+        "dofs",
+        "steps",
+        "newton_iterations",
+        "wall_s",
+        "converged",
+        "max_shear_deg",
+        "punch_force_n",
+        "draw_in_mm",
+        "max_tension_n",
+        "err_max_shear_deg",
+        "err_punch_force_pct",
+        "err_draw_in_mm",
+        "err_max_tension_pct",
+    ];
+    w.write_record(header).expect("writing to memory");
     for ladder in [mesh, steps] {
         for (i, r) in ladder.rungs.iter().enumerate() {
             let e = errors(ladder, i);
             let f = r.figures;
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{},{},{:.3},{},{:.4},{:.2},{:.4},{:.2},{:.4},{:.3},{:.4},{:.3}",
-                r.ladder,
-                r.element_size_mm,
-                r.max_step,
-                r.dofs,
-                r.steps,
-                r.newton_iterations,
-                r.wall_s,
-                r.converged,
-                f[0],
-                f[1],
-                f[2],
-                f[3],
-                e[0],
-                e[1],
-                e[2],
-                e[3]
-            );
+            w.write_record([
+                r.ladder.to_string(),
+                r.element_size_mm.to_string(),
+                r.max_step.to_string(),
+                r.dofs.to_string(),
+                r.steps.to_string(),
+                r.newton_iterations.to_string(),
+                format!("{:.3}", r.wall_s),
+                r.converged.to_string(),
+                format!("{:.4}", f[0]),
+                format!("{:.2}", f[1]),
+                format!("{:.4}", f[2]),
+                format!("{:.2}", f[3]),
+                format!("{:.4}", e[0]),
+                format!("{:.3}", e[1]),
+                format!("{:.4}", e[2]),
+                format!("{:.3}", e[3]),
+            ])
+            .expect("writing to memory");
         }
     }
-    csv
+    String::from_utf8(w.into_inner().expect("writing to memory")).expect("UTF-8")
 }
 
 fn errors(ladder: &Ladder, i: usize) -> Vec<f64> {

@@ -1,7 +1,6 @@
 //! The paper's Figure 6: warp and weft tension against warp strain for biaxial strain paths
 //! of ratio `k = ε11/ε22` = 1, 2, 4 and the uniaxial path (ε22 = 0).
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::core::law::{CellLaw, CellParams};
@@ -83,19 +82,20 @@ pub fn figure6_table(params: CellParams, points_per_curve: usize) -> Vec<Figure6
 
 /// The table as CSV with columns `k,eps1,eps2,t11_n,t22_n`.
 pub fn figure6_csv(rows: &[Figure6Row]) -> String {
-    let mut s = String::from("k,eps1,eps2,t11_n,t22_n\n");
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(["k", "eps1", "eps2", "t11_n", "t22_n"])
+        .expect("writing to memory");
     for r in rows {
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{}",
-            r.path.k_label(),
-            r.eps[0],
-            r.eps[1],
-            r.t[0],
-            r.t[1]
-        );
+        w.write_record([
+            r.path.k_label().to_string(),
+            r.eps[0].to_string(),
+            r.eps[1].to_string(),
+            r.t[0].to_string(),
+            r.t[1].to_string(),
+        ])
+        .expect("writing to memory");
     }
-    s
+    String::from_utf8(w.into_inner().expect("writing to memory")).expect("UTF-8")
 }
 
 /// The chart: warp tension solid, weft tension dashed, one colour per path.

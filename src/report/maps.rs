@@ -131,20 +131,7 @@ fn full_blank(result: &DrawingResult, values: &[f64]) -> (Vec<PlanQuad>, Vec<f64
 }
 
 fn what_is_drawn(result: &DrawingResult, ctx: &MapContext) -> String {
-    let part = if result.quarter {
-        "full blank (the solved quarter mirrored)"
-    } else {
-        "full blank"
-    };
-    let stroke = if result.converged {
-        format!("stroke {:.1} mm", result.stroke_reached_mm)
-    } else {
-        format!(
-            "stopped at stroke {:.1} of {:.1} mm",
-            result.stroke_reached_mm, ctx.stroke_mm
-        )
-    };
-    format!("deformed blank seen from above, {part}, {stroke}; dashed: die opening")
+    crate::summary::what_is_drawn(result, ctx.stroke_mm)
 }
 
 /// The map of the shear angle (|change of the angle between the yarns|, degrees).
@@ -208,48 +195,7 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
 
 /// The die opening in plan as a closed polyline, mm.
 pub fn die_opening_outline(tooling: &Tooling) -> Vec<[f64; 2]> {
-    const N: usize = 24; // points per quarter turn
-    let half = tooling.opening_half();
-    let mut pts = Vec::with_capacity(4 * N + 1);
-    match *tooling {
-        Tooling::Box { r, clearance, .. } => {
-            let rc = (r + clearance).min(half[0]).min(half[1]);
-            let centres = [
-                [half[0] - rc, half[1] - rc],
-                [-(half[0] - rc), half[1] - rc],
-                [-(half[0] - rc), -(half[1] - rc)],
-                [half[0] - rc, -(half[1] - rc)],
-            ];
-            for (k, c) in centres.iter().enumerate() {
-                for i in 0..=N {
-                    let t = (k as f64 + i as f64 / N as f64) * std::f64::consts::FRAC_PI_2;
-                    pts.push([c[0] + rc * t.cos(), c[1] + rc * t.sin()]);
-                }
-            }
-        }
-        Tooling::Ellipsoid {
-            axes, clearance, ..
-        } => {
-            let (a, b) = (axes[0], axes[1]);
-            for i in 0..4 * N {
-                let t = i as f64 / (4 * N) as f64 * std::f64::consts::TAU;
-                let (c, s) = (t.cos(), t.sin());
-                let n = [b * c, a * s];
-                let l = (n[0] * n[0] + n[1] * n[1]).sqrt();
-                pts.push([a * c + clearance * n[0] / l, b * s + clearance * n[1] / l]);
-            }
-        }
-        Tooling::Hemisphere { .. } => {
-            for i in 0..4 * N {
-                let t = i as f64 / (4 * N) as f64 * std::f64::consts::TAU;
-                pts.push([half[0] * t.cos(), half[1] * t.sin()]);
-            }
-        }
-    }
-    if let Some(&first) = pts.first() {
-        pts.push(first);
-    }
-    pts
+    tooling.die_opening_outline()
 }
 
 type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;

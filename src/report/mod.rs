@@ -3,9 +3,11 @@
 pub mod bench;
 pub mod converge;
 pub mod figure6;
+pub mod fit;
 pub mod maps;
 pub mod mirror;
 pub mod plot;
 pub mod sheet;
 pub mod summary;
+pub mod sweep;
 pub mod vtu;

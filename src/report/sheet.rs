@@ -24,47 +24,13 @@ use std::path::Path;
 
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-use serde::{Deserialize, Serialize};
 
 use super::maps::{OVER_LIMIT, colour_of};
 use super::mirror::PlanQuad;
 use super::plot::{LineChart, register_fonts, tick_label};
-
-/// The verdict on one design of a sweep.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "UPPERCASE")]
-pub enum Verdict {
-    /// Converged, shear within the locking angle, yarn tension within the break tension.
-    Feasible,
-    /// Converged, but over the locking angle or the break tension.
-    Infeasible,
-    /// The run did not reach the full stroke (or the program failed on it).
-    Failed,
-    /// The design breaks a bound of the scene; it was not run.
-    Invalid,
-}
+pub use crate::verdict::Verdict;
 
 impl Verdict {
-    /// The word written in tables and CSV files.
-    pub fn word(self) -> &'static str {
-        match self {
-            Verdict::Feasible => "FEASIBLE",
-            Verdict::Infeasible => "INFEASIBLE",
-            Verdict::Failed => "FAILED",
-            Verdict::Invalid => "INVALID",
-        }
-    }
-
-    /// A one-character mark: ✓ feasible, ✗ infeasible, ! failed, – invalid.
-    pub fn mark(self) -> &'static str {
-        match self {
-            Verdict::Feasible => "✓",
-            Verdict::Infeasible => "✗",
-            Verdict::Failed => "!",
-            Verdict::Invalid => "–",
-        }
-    }
-
     /// The colour of the verdict on the sheet (Okabe–Ito green and vermilion, greys).
     pub fn colour(self) -> (u8, u8, u8) {
         match self {
@@ -73,17 +39,6 @@ impl Verdict {
             Verdict::Failed => (90, 90, 90),
             Verdict::Invalid => (160, 160, 160),
         }
-    }
-
-    pub fn parse(word: &str) -> Option<Verdict> {
-        [
-            Verdict::Feasible,
-            Verdict::Infeasible,
-            Verdict::Failed,
-            Verdict::Invalid,
-        ]
-        .into_iter()
-        .find(|v| v.word() == word)
     }
 }
 
@@ -601,19 +556,6 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn verdict_words_round_trip() {
-        for v in [
-            Verdict::Feasible,
-            Verdict::Infeasible,
-            Verdict::Failed,
-            Verdict::Invalid,
-        ] {
-            assert_eq!(Verdict::parse(v.word()), Some(v));
-        }
-        assert_eq!(Verdict::parse("maybe"), None);
-    }
 
     #[test]
     fn grids_stay_square_ish() {

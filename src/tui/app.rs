@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
 use crate::report::sheet::Verdict;
-use crate::sweep::{Design, Plan, Row, StoredField};
+use crate::study::sweep::{Design, Plan, Row, StoredField};
 
 use super::params::{Parameters, Target};
 use super::worker::Message;
@@ -270,7 +270,7 @@ impl App {
             .map(|r| r.design.clone())?;
         if !self.fields.contains_key(&id) {
             let read = match &self.run_dir {
-                Some(dir) => StoredField::read(dir, &id),
+                Some(dir) => StoredField::read(dir, &id).map_err(|e| e.to_string()),
                 None => Err("no run folder".into()),
             };
             self.fields.insert(id.clone(), read);

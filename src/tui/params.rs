@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use crate::accuracy::Accuracy;
 use crate::scene::{Override, Scene};
-use crate::sweep::{Plan, show_value, unit_of};
+use crate::study::sweep::{Plan, show_value, unit_of};
 
 /// At most this many designs are run from the explorer (the headless sweep takes more).
 pub const MAX_DESIGNS: usize = 2000;

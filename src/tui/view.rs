@@ -13,7 +13,7 @@ use ratatui::widgets::{
 };
 
 use crate::report::sheet::Verdict;
-use crate::sweep::{Row, StoredField, show_value};
+use crate::study::sweep::{Row, StoredField, show_value};
 
 use super::app::{App, Entry, Focus, Mode, RunState};
 use super::params::Target;
@@ -526,7 +526,7 @@ fn draw_detail(frame: &mut Frame, app: &mut App, area: Rect, st: &Styles) {
         return;
     }
     let [map, bar] = Layout::vertical([Constraint::Min(2), Constraint::Length(3)]).areas(map_area);
-    let (quads, values) = field.full_blank();
+    let (quads, values) = crate::report::sweep::full_blank(&field);
     let top = values.iter().copied().fold(1.1 * locking, f64::max);
     let max_at = field
         .max_at

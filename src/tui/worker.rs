@@ -7,7 +7,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::mpsc::Sender;
 use std::thread;
 
-use crate::sweep::{self, Plan, Progress, Row};
+use crate::study::sweep::{self, Plan, Progress, Row};
 
 /// What the workers tell the interface.
 #[derive(Debug)]
@@ -40,7 +40,6 @@ pub fn start_sweep(
         shard: None,
         resume,
         stop: Some(stop.clone()),
-        skip_report: true,
     };
     thread::Builder::new()
         .name("explorer-sweep".into())
@@ -52,7 +51,6 @@ pub fn start_sweep(
                         kept: kept.kept,
                     },
                     Progress::Done { row, .. } => Message::Row(Box::new(row.clone())),
-                    Progress::Drawing { .. } => return,
                 };
                 let _ = tx.send(m);
             };
@@ -81,8 +79,11 @@ pub fn start_export(from: PathBuf, to: PathBuf, tx: Sender<Message>) {
         .name("explorer-export".into())
         .spawn(move || {
             let result = sweep::merge(&[from], &to, None)
-                .map(|(_, outcome)| outcome.files)
-                .map_err(|e| e.to_string());
+                .map_err(|e| e.to_string())
+                .and_then(|(plan, outcome)| {
+                    let pool = sweep::pool(None).map_err(|e| e.to_string())?;
+                    crate::publish::sweep_report(&plan, &to, &outcome.rows, None, &pool)
+                });
             let _ = tx.send(Message::Exported(result));
         })
         .expect("a thread can be started");

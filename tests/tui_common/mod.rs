@@ -8,12 +8,12 @@ use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use wovenform::report::sheet::Verdict;
-use wovenform::sweep::{Row, StoredField};
+use wovenform::study::sweep::{Row, StoredField};
 use wovenform::tui::app::App;
 use wovenform::tui::params::{Parameters, default_source};
 use wovenform::tui::view;
 use wovenform::tui::worker::Message;
+use wovenform::verdict::Verdict;
 
 /// Figures of the default grid's designs (r, rp, rm over the paper's tight and open radii,
 /// μ 0.2, 1 MPa) as a real run at `standard` gave them: max shear °, max tension N, punch

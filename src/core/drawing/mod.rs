@@ -5,6 +5,7 @@
 
 mod collect;
 mod failure;
+mod outline;
 mod result;
 mod size;
 

@@ -112,7 +112,7 @@ fn preset(text: &str, name: &str, overrides: &[&str]) -> crate::core::drawing::D
 /// The paper's open box (the preset) at an element size, as a problem on one thread.
 pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
     let mut p = preset(
-        include_str!("../presets/paper-box-open.toml"),
+        include_str!("../../presets/paper-box-open.toml"),
         "presets/paper-box-open.toml",
         &[],
     );
@@ -122,8 +122,8 @@ pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
 
 /// The drawings the benchmark times, each at `standard` (2.5 mm elements), on one thread.
 pub fn cases() -> Vec<(&'static str, crate::core::drawing::DrawingProblem)> {
-    let open = include_str!("../presets/paper-box-open.toml");
-    let tight = include_str!("../presets/paper-box-tight.toml");
+    let open = include_str!("../../presets/paper-box-open.toml");
+    let tight = include_str!("../../presets/paper-box-tight.toml");
     vec![
         ("open box", preset(open, "presets/paper-box-open.toml", &[])),
         (
@@ -321,12 +321,12 @@ pub fn sweep_throughput(jobs: usize) -> Result<f64, String> {
             .map(|d| d.as_nanos())
             .unwrap_or(0)
     ));
-    let options = crate::sweep::Options {
+    let options = crate::study::sweep::Options {
         jobs: Some(jobs),
-        skip_report: true,
         ..Default::default()
     };
-    let outcome = crate::sweep::run(&plan, &dir, &options, &|_| {}).map_err(|e| e.to_string());
+    let outcome =
+        crate::study::sweep::run(&plan, &dir, &options, &|_| {}).map_err(|e| e.to_string());
     let _ = std::fs::remove_dir_all(&dir);
     let outcome = outcome?;
     Ok(outcome.ran as f64 / outcome.run_wall_s * 60.0)

@@ -1,0 +1,87 @@
+//! `wovenform fit DATA.csv`: identify A and B (and C) from measured biaxial tension curves.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::CliError;
+use super::scene_args::SceneArgs;
+use wovenform::report::fit::fit_chart;
+use wovenform::study::fit::{self as fitting, FitOptions};
+
+#[derive(Args, Debug)]
+pub struct FitArgs {
+    /// Measured curves: CSV with header eps1,eps2,t11_n,t22_n (strains, tensions per yarn in
+    /// N; what `law --curves` writes).
+    #[arg(value_name = "DATA.csv")]
+    pub data: PathBuf,
+    /// Also identify the yarn stiffness C (one value for both yarns).
+    #[arg(long)]
+    pub fit_c: bool,
+    /// Folder for fit.png (default: the folder of DATA.csv).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+}
+
+pub fn exec(args: FitArgs) -> Result<(), CliError> {
+    let scene = args.scene.load()?;
+    let samples = fitting::read_samples(&args.data).map_err(CliError::bad_input)?;
+    let options = FitOptions {
+        fit_c: args.fit_c,
+        ..FitOptions::default()
+    };
+    let start = scene.to_cell_params();
+    let result = fitting::fit(&samples, start, options).map_err(CliError::bad_input)?;
+    let p = result.params;
+    println!("fit of {}", args.data.display());
+    println!("A = {:.6} mm", p.a);
+    println!("B = {:.6} 1/N", p.b);
+    let c_note = if args.fit_c { "" } else { " (fixed)" };
+    if p.c[0] == p.c[1] {
+        println!("C = {:.1} N{c_note}", p.c[0]);
+    } else {
+        println!("C = [{:.1}, {:.1}] N{c_note}", p.c[0], p.c[1]);
+    }
+    println!("RMS residual = {:.4} N", result.rms_n);
+    println!("points = {}", result.points);
+    println!("iterations = {}", result.iterations);
+    let dir = match &args.out {
+        Some(d) => d.clone(),
+        None => match args.data.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        },
+    };
+    let png = write_png(&dir, &samples, &result, &args.data).map_err(CliError::failed)?;
+    println!("{}", png.display());
+    if !result.converged {
+        return Err(CliError::failed(format!(
+            "the fit did not converge in {} iterations; the values above are the last iterate",
+            result.iterations
+        )));
+    }
+    Ok(())
+}
+
+fn write_png(
+    dir: &Path,
+    samples: &[fitting::Sample],
+    result: &fitting::FitResult,
+    data: &Path,
+) -> Result<PathBuf, String> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+    let name = data
+        .file_name()
+        .unwrap_or(data.as_os_str())
+        .to_string_lossy();
+    let title = format!(
+        "Fit of {name}: A = {:.4} mm, B = {:.3} 1/N, RMS {:.2} N",
+        result.params.a, result.params.b, result.rms_n
+    );
+    let png = dir.join("fit.png");
+    fit_chart(samples, result, &title).write_png(&png)?;
+    Ok(png)
+}

@@ -1,0 +1,92 @@
+//! `wovenform run SCENE.toml`: solve one scene, print its summary, write its maps, VTU and
+//! summary.json.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::CliError;
+use super::progress::stroke_bar;
+use super::scene_args::{SceneArgs, parse_accuracy, with_accuracy};
+use wovenform::accuracy::Accuracy;
+use wovenform::core::drawing;
+use wovenform::report::summary::write_run;
+use wovenform::summary::RunSummary;
+
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    /// Scene file (TOML).
+    #[arg(value_name = "SCENE.toml")]
+    pub scene: PathBuf,
+    /// Override one scene key; VALUE is a TOML literal, e.g. --set tools.r=7.5 or
+    /// --set blank.size=[130,100]. Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output folder (default: out/<scene file stem>).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object instead of the text summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Accuracy level: coarse (5 mm elements), standard (2.5 mm) or fine (1.25 mm); sets
+    /// mesh.element_size (a --set of it wins) and reports the level's measured error.
+    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
+    pub accuracy: Option<Accuracy>,
+}
+
+pub fn exec(args: RunArgs) -> Result<(), CliError> {
+    let scene = SceneArgs {
+        scene: Some(args.scene.clone()),
+        set: with_accuracy(args.accuracy, &args.set),
+    }
+    .load()?;
+    let name = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let problem = scene.to_problem();
+    let bar = stroke_bar(problem.stroke);
+    let start = std::time::Instant::now();
+    let result = drawing::solve(&problem, &mut |fraction| {
+        bar.set_position((fraction * 1000.0).round() as u64);
+        bar.set_message(format!(
+            "stroke {:.2} of {} mm",
+            fraction * problem.stroke,
+            problem.stroke
+        ));
+    });
+    let wall_s = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let mut summary = RunSummary::new(&name, &scene, &result, wall_s);
+    let dir = args.out.unwrap_or_else(|| Path::new("out").join(&name));
+    write_run(&dir, &mut summary, &result, &problem.tooling).map_err(CliError::failed)?;
+    if args.json {
+        println!("{}", summary.to_json());
+    } else {
+        print!("{}", summary.to_text());
+    }
+    if !summary.unsound.is_empty() {
+        return Err(CliError::failed(format!(
+            "{}: the result cannot be trusted: {}",
+            args.scene.display(),
+            summary.unsound.join("; ")
+        )));
+    }
+    if !result.converged {
+        let what = if summary.verdict.starts_with("NO ANSWER") {
+            "the drawing has no answer"
+        } else {
+            "the drawing did not converge"
+        };
+        return Err(CliError::failed(format!(
+            "{}: {what}: {}",
+            args.scene.display(),
+            result
+                .failure
+                .as_ref()
+                .map_or("no cause given".to_string(), |f| f.to_string())
+        )));
+    }
+    Ok(())
+}

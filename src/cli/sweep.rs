@@ -1,0 +1,152 @@
+//! `wovenform sweep SWEEP.toml --out DIR`: the grid in parallel with a progress bar, then the
+//! maps, the report sheet, `results.json` and the feasibility table.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::CliError;
+use super::progress::stderr_bar;
+use super::scene_args::{parse_accuracy, with_accuracy};
+use wovenform::accuracy::Accuracy;
+use wovenform::publish;
+use wovenform::report::sweep::table;
+use wovenform::study::sweep::{self, Outcome, Plan, Progress, Shard, counts};
+
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    /// Sweep file (TOML): a base scene and a [sweep] table of parameters.
+    #[arg(value_name = "SWEEP.toml")]
+    pub sweep: PathBuf,
+    /// Override one key of the base scene; VALUE is a TOML literal. Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output folder.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Designs run at once (default: every core).
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Run only the I-th of N slices of the grid (the designs whose index is I-1 modulo N).
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<Shard>,
+    /// Continue a sweep in DIR: keep its rows for this base scene, run the missing designs.
+    #[arg(long)]
+    pub resume: bool,
+    /// Accuracy level: coarse (5 mm elements), standard (2.5 mm) or fine (1.25 mm); sets
+    /// mesh.element_size (a --set of it wins) and reports the level's measured error.
+    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
+    pub accuracy: Option<Accuracy>,
+}
+
+pub fn exec(args: SweepArgs) -> Result<(), CliError> {
+    let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
+    let options = sweep::Options {
+        jobs: args.jobs,
+        shard: args.shard,
+        resume: args.resume,
+        ..sweep::Options::default()
+    };
+    let start = std::time::Instant::now();
+    let terminal = std::io::stderr().is_terminal();
+    let bar = stderr_bar(
+        0,
+        "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} designs, {msg}, ETA {eta}",
+    );
+    bar.set_message("0 feasible");
+    let progress = |p: Progress| match p {
+        Progress::Start {
+            to_run,
+            kept,
+            invalid,
+        } => {
+            if args.resume {
+                bar.suspend(|| {
+                    eprintln!(
+                        "resume {}: {}; {} designs to run",
+                        args.out.display(),
+                        kept.describe(),
+                        to_run + invalid
+                    )
+                });
+            }
+            bar.set_length((to_run + invalid) as u64);
+            if terminal {
+                bar.enable_steady_tick(std::time::Duration::from_millis(200));
+            }
+        }
+        Progress::Done {
+            row,
+            done,
+            total,
+            feasible,
+        } => {
+            bar.set_position(done as u64);
+            bar.set_message(format!("{feasible} feasible"));
+            if !terminal {
+                let shear = row
+                    .max_shear_deg
+                    .map(|s| format!(", max shear {s:.1}°"))
+                    .unwrap_or_default();
+                eprintln!(
+                    "[{done}/{total}] {} {}{shear}",
+                    row.design,
+                    row.verdict.word()
+                );
+            }
+        }
+    };
+    let outcome = sweep::run(&plan, &args.out, &options, &progress);
+    let mut outcome = outcome.inspect_err(|_| bar.finish_and_clear())?;
+    let maps = outcome.rows.iter().filter(|r| r.map.is_some()).count();
+    bar.set_message(format!("drawing {maps} maps and the report"));
+    let pool = sweep::pool(args.jobs)?;
+    let drawn = publish::sweep_report(&plan, &args.out, &outcome.rows, args.shard, &pool);
+    bar.finish_and_clear();
+    outcome.files = drawn.map_err(CliError::failed)?;
+    outcome.wall_s = start.elapsed().as_secs_f64();
+    print_outcome(&plan, &outcome);
+    let per_min = if outcome.run_wall_s > 0.0 {
+        60.0 * outcome.ran as f64 / outcome.run_wall_s
+    } else {
+        0.0
+    };
+    println!(
+        "{} designs run in {:.1} s on {} threads ({per_min:.1} designs/min){}; {:.1} s in all",
+        outcome.ran,
+        outcome.run_wall_s,
+        outcome.threads,
+        if outcome.kept.kept > 0 {
+            format!(", {} rows kept from before", outcome.kept.kept)
+        } else {
+            String::new()
+        },
+        outcome.wall_s
+    );
+    Ok(())
+}
+
+/// The feasibility table, the counts and the files written.
+pub fn print_outcome(plan: &Plan, outcome: &Outcome) {
+    print!("{}", table(plan, &outcome.rows));
+    let c = counts(&outcome.rows);
+    println!();
+    println!(
+        "{} of {} designs: {} feasible, {} infeasible, {} failed, {} invalid{}",
+        outcome.rows.len(),
+        plan.len(),
+        c.feasible,
+        c.infeasible,
+        c.failed,
+        c.invalid,
+        if outcome.missing > 0 {
+            format!("; {} missing", outcome.missing)
+        } else {
+            String::new()
+        }
+    );
+    for f in &outcome.files {
+        println!("{}", f.display());
+    }
+}

@@ -1,0 +1,7 @@
+//! The studies that drive the core: a sweep of designs, a convergence study, the law's fit to
+//! measured curves and the benchmark. Each takes plain data (a plan, a scene, a table of
+//! measurements) and gives plain data back; what they draw or print is in [`crate::report`].
+pub mod bench;
+pub mod converge;
+pub mod fit;
+pub mod sweep;

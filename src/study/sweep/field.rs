@@ -1,0 +1,102 @@
+//! The shear field of each design, kept in `fields/<id>.json` as its run finishes: what its
+//! map and its tile on the report sheet are drawn from at the end, on the sweep's common
+//! scale (and after a resume or a merge).
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::grid::Design;
+use super::rows::round_to;
+use super::store::{StoreError, write_atomic};
+use crate::core::drawing::{DrawingResult, Tooling};
+use crate::summary::{RunSummary, what_is_drawn};
+
+/// The shear field of one design, kept so that its map and its tile on the sheet can be
+/// drawn at the end on the sweep's common scale (and after a resume or a merge). The solved
+/// part only (mirrored when drawn); positions to 0.001 mm, angles to 0.001°.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StoredField {
+    pub design: String,
+    /// The run's verdict in words (e.g. "INFEASIBLE: shear over the locking angle").
+    pub verdict: String,
+    pub max_shear_deg: f64,
+    pub locking_angle_deg: f64,
+    /// What the map shows (the blank, the stroke reached).
+    pub subtitle: String,
+    pub quarter: bool,
+    /// Final plan positions of the solved part's nodes, mm.
+    pub nodes: Vec<[f64; 2]>,
+    pub quads: Vec<[u32; 4]>,
+    /// |shear| of each element, degrees.
+    pub shear_deg: Vec<f64>,
+    pub max_at: Option<[f64; 2]>,
+    pub die_opening: Vec<[f64; 2]>,
+}
+
+impl StoredField {
+    /// `dir/fields/<id>.json`.
+    pub fn path(dir: &Path, id: &str) -> PathBuf {
+        dir.join("fields").join(format!("{id}.json"))
+    }
+
+    pub fn read(dir: &Path, id: &str) -> Result<StoredField, StoreError> {
+        let path = Self::path(dir, id);
+        let field = |source: Box<dyn std::error::Error + Send + Sync>| StoreError::Field {
+            path: path.clone(),
+            source,
+        };
+        let text = fs::read_to_string(&path).map_err(|e| field(e.into()))?;
+        serde_json::from_str(&text).map_err(|e| field(e.into()))
+    }
+
+    pub(super) fn write(&self, dir: &Path) -> Result<(), StoreError> {
+        let text = serde_json::to_string(self).expect("a field is plain data");
+        write_atomic(&Self::path(dir, &self.design), &text)
+    }
+
+    /// The field of a run: its shear, the place of its largest shear, the die opening.
+    pub(super) fn of_run(
+        design: &Design,
+        summary: &RunSummary,
+        result: &DrawingResult,
+        tooling: &Tooling,
+    ) -> StoredField {
+        let r3 = |v: f64| round_to(v, 3);
+        let (e, _) = result.max_shear();
+        let max_at = (!result.shear_deg.is_empty()).then(|| {
+            let c = result.element_centre(e);
+            [c[0], c[1]]
+        });
+        StoredField {
+            design: design.id.clone(),
+            verdict: summary.verdict.clone(),
+            max_shear_deg: summary.max_shear_deg,
+            locking_angle_deg: summary.locking_angle_deg,
+            subtitle: format!(
+                "Shear angle of the yarns: {}",
+                what_is_drawn(result, summary.stroke_mm)
+            ),
+            quarter: result.quarter,
+            nodes: result
+                .positions
+                .iter()
+                .map(|p| [r3(p[0]), r3(p[1])])
+                .collect(),
+            quads: result
+                .mesh
+                .quads
+                .iter()
+                .map(|q| q.map(|n| n as u32))
+                .collect(),
+            shear_deg: result.shear_deg.iter().map(|s| r3(s.abs())).collect(),
+            max_at: max_at.map(|p| [r3(p[0]), r3(p[1])]),
+            die_opening: tooling
+                .die_opening_outline()
+                .iter()
+                .map(|p| [r3(p[0]), r3(p[1])])
+                .collect(),
+        }
+    }
+}

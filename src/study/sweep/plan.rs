@@ -1,0 +1,377 @@
+//! The sweep file read into a [`Plan`]: the base scene, the swept parameters (lists, ranges or
+//! one value), their order and their hashes.
+
+use std::fs;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::SweepError;
+use super::values::{as_number, fnv_hex, show_value};
+use crate::scene::{Override, Scene};
+
+/// The box's five short names and the scene keys they stand for, in grid order.
+pub const SHORT_NAMES: [(&str, &str); 5] = [
+    ("r", "tools.r"),
+    ("rp", "tools.rp"),
+    ("rm", "tools.rm"),
+    ("friction", "process.friction"),
+    ("holder_pressure", "process.holder_pressure"),
+];
+
+/// One swept parameter: the scene key, its column in the results and its values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Axis {
+    pub key: String,
+    pub column: String,
+    pub values: Vec<toml::Value>,
+}
+
+/// Everything a sweep needs, read from the sweep file (and stored in `DIR/sweep.lock`, so that
+/// a resume or a merge can check it and rebuild the grid without the file).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Plan {
+    /// The sweep file as given.
+    pub sweep_file: String,
+    /// The base scene file (relative to the current folder), if any.
+    pub base_file: Option<String>,
+    /// The `--set` overrides of the base, as given.
+    pub set: Vec<String>,
+    /// The base scene's TOML text (the base file, with the inline `[scene]` keys over it).
+    pub base_text: String,
+    /// What errors in the base scene are blamed on.
+    pub base_origin: String,
+    /// The base scene as run (every key, defaults filled in), before the swept values.
+    pub base_scene: Scene,
+    pub axes: Vec<Axis>,
+    /// FNV-1a hashes of the base scene (as run) and of the grid.
+    pub base_hash: String,
+    pub sweep_hash: String,
+}
+
+pub(super) fn lookup<'a>(table: &'a toml::Table, key: &str) -> Option<&'a toml::Value> {
+    let mut parts = key.split('.');
+    let mut v = table.get(parts.next()?)?;
+    for p in parts {
+        v = match v {
+            toml::Value::Table(t) => t.get(p)?,
+            _ => return None,
+        };
+    }
+    Some(v)
+}
+
+/// Deep merge: `over`'s keys replace `base`'s, tables merged key by key.
+fn merge_tables(base: &mut toml::Table, over: &toml::Table) {
+    for (k, v) in over {
+        match (base.get_mut(k), v) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge_tables(b, o),
+            _ => {
+                base.insert(k.clone(), v.clone());
+            }
+        }
+    }
+}
+
+/// A `[sweep]` entry is a range when it is a table with any of these keys.
+const RANGE_KEYS: [&str; 3] = ["start", "stop", "count"];
+
+fn is_range(t: &toml::Table) -> bool {
+    RANGE_KEYS.iter().any(|k| t.contains_key(*k))
+}
+
+/// The `[sweep]` entries with dotted keys (`[sweep] tools.r = ...` is a nested table in TOML).
+fn flatten_sweep(prefix: &str, table: &toml::Table, out: &mut Vec<(String, toml::Value)>) {
+    for (k, v) in table {
+        let key = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            toml::Value::Table(t) if !is_range(t) => flatten_sweep(&key, t, out),
+            _ => out.push((key, v.clone())),
+        }
+    }
+}
+
+/// Rounds a computed range value to 10 significant digits (0.30000000000000004 → 0.3).
+fn tidy(v: f64) -> f64 {
+    format!("{v:.10e}").parse().unwrap_or(v)
+}
+
+impl Plan {
+    /// Reads a sweep file; `sets` are the `--set` overrides of the base scene. Errors name the
+    /// file and the key (exit code 2).
+    pub fn load(path: &Path, sets: &[String]) -> Result<Plan, SweepError> {
+        let file = path.display().to_string();
+        let bad = |detail: String| SweepError::BadInput(format!("{file}: {detail}"));
+        let text = fs::read_to_string(path)
+            .map_err(|e| bad(format!("cannot read the sweep file: {e}")))?;
+        let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            bad(format!("not valid TOML: {}", e.to_string().trim_end()))
+        })?;
+        Plan::from_document(path, &doc, sets)
+    }
+
+    /// A plan from a parsed sweep document; `path` names it in errors and places a relative
+    /// `base` file (the explorer builds its documents in memory).
+    pub fn from_document(
+        path: &Path,
+        doc: &toml::Table,
+        sets: &[String],
+    ) -> Result<Plan, SweepError> {
+        let file = path.display().to_string();
+        let bad = |detail: String| SweepError::BadInput(format!("{file}: {detail}"));
+        for key in doc.keys() {
+            if !["base", "scene", "sweep"].contains(&key.as_str()) {
+                return Err(bad(format!(
+                    "{key}: unknown key; expected base = \"SCENE.toml\", a [scene] table and a [sweep] table"
+                )));
+            }
+        }
+        // The base scene: a file, an inline [scene] table over it, or both, or neither.
+        let base_file = match doc.get("base") {
+            None => None,
+            Some(toml::Value::String(s)) => {
+                let dir = path.parent().unwrap_or(Path::new(""));
+                Some(dir.join(s))
+            }
+            Some(v) => {
+                return Err(bad(format!(
+                    "base = {v}: expected the path of a scene file, relative to the sweep file"
+                )));
+            }
+        };
+        let inline = match doc.get("scene") {
+            None => None,
+            Some(toml::Value::Table(t)) => Some(t.clone()),
+            Some(v) => return Err(bad(format!("scene = {v}: expected a [scene] table"))),
+        };
+        let base_display = base_file.as_ref().map(|p| p.display().to_string());
+        let (base_text, base_origin) = match (&base_file, &inline) {
+            (None, None) => (String::new(), format!("{file} (the default scene)")),
+            (Some(b), None) => {
+                let t = fs::read_to_string(b).map_err(|e| {
+                    bad(format!(
+                        "base = {}: cannot read the scene file: {e}",
+                        b.display()
+                    ))
+                })?;
+                (t, b.display().to_string())
+            }
+            (None, Some(t)) => (
+                toml::to_string(t).map_err(|e| bad(format!("[scene]: {e}")))?,
+                format!("{file} [scene]"),
+            ),
+            (Some(b), Some(over)) => {
+                let origin = format!("{} with {file} [scene]", b.display());
+                let t = fs::read_to_string(b).map_err(|e| {
+                    bad(format!(
+                        "base = {}: cannot read the scene file: {e}",
+                        b.display()
+                    ))
+                })?;
+                let mut table: toml::Table = t.parse().map_err(|e: toml::de::Error| {
+                    SweepError::BadInput(format!(
+                        "{}: not valid TOML: {}",
+                        b.display(),
+                        e.to_string().trim_end()
+                    ))
+                })?;
+                merge_tables(&mut table, over);
+                (
+                    toml::to_string(&table).map_err(|e| bad(format!("[scene]: {e}")))?,
+                    origin,
+                )
+            }
+        };
+        let overrides = parse_sets(sets)?;
+        let base_scene = Scene::from_toml_str(&base_text, &base_origin, &overrides)
+            .map_err(|e| SweepError::BadInput(e.to_string()))?;
+        let scene_table = toml::Table::try_from(&base_scene)
+            .map_err(|e| SweepError::Run(format!("cannot tabulate the base scene: {e}")))?;
+
+        // The parameters.
+        let sweep = match doc.get("sweep") {
+            Some(toml::Value::Table(t)) if !t.is_empty() => t,
+            _ => {
+                return Err(bad(
+                    "expected a [sweep] table with at least one parameter, e.g. r = [5.0, 10.0]"
+                        .into(),
+                ));
+            }
+        };
+        let mut entries = Vec::new();
+        flatten_sweep("", sweep, &mut entries);
+        let mut axes: Vec<Axis> = Vec::new();
+        for (name, value) in entries {
+            let key = SHORT_NAMES
+                .iter()
+                .find(|(s, _)| *s == name)
+                .map(|(_, k)| k.to_string())
+                .unwrap_or_else(|| name.clone());
+            let base_value = match lookup(&scene_table, &key) {
+                Some(toml::Value::Table(_)) | None => {
+                    return Err(bad(format!(
+                        "sweep.{name}: unknown key; expected a scene key (such as tools.r, process.stroke or mesh.element_size) or a short name: r, rp, rm, friction, holder_pressure"
+                    )));
+                }
+                Some(v) => v.clone(),
+            };
+            if let Some(other) = axes.iter().find(|a| a.key == key) {
+                return Err(bad(format!(
+                    "sweep.{name}: {key} is swept twice (also as sweep.{})",
+                    other.column
+                )));
+            }
+            let values = axis_values(&name, &key, &value, &base_value).map_err(bad)?;
+            let column = SHORT_NAMES
+                .iter()
+                .find(|(_, k)| *k == key)
+                .map(|(s, _)| s.to_string())
+                .unwrap_or_else(|| key.clone());
+            axes.push(Axis {
+                key,
+                column,
+                values,
+            });
+        }
+        // The grid's order: the short names first, then the other keys alphabetically.
+        axes.sort_by_key(|a| {
+            let rank = SHORT_NAMES
+                .iter()
+                .position(|(_, k)| *k == a.key)
+                .unwrap_or(SHORT_NAMES.len());
+            (rank, a.key.clone())
+        });
+        let total = axes
+            .iter()
+            .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
+            .unwrap_or(usize::MAX);
+        if total > 1_000_000 {
+            return Err(bad(format!(
+                "the grid has {total} designs; expected at most 1,000,000 (split the sweep)"
+            )));
+        }
+        let base_json = serde_json::to_string(&base_scene).expect("a scene is plain data");
+        let base_hash = fnv_hex(&base_json);
+        let sweep_json = serde_json::to_string(&axes).expect("the axes are plain data");
+        let sweep_hash = fnv_hex(&format!("{base_hash}\n{sweep_json}"));
+        Ok(Plan {
+            sweep_file: file,
+            base_file: base_display,
+            set: sets.to_vec(),
+            base_text,
+            base_origin,
+            base_scene,
+            axes,
+            base_hash,
+            sweep_hash,
+        })
+    }
+
+    /// The sweep's name: the sweep file's stem.
+    pub fn name(&self) -> String {
+        Path::new(&self.sweep_file)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "sweep".into())
+    }
+
+    /// The number of designs in the grid.
+    pub fn len(&self) -> usize {
+        self.axes.iter().map(|a| a.values.len()).product()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+pub(super) fn parse_sets(sets: &[String]) -> Result<Vec<Override>, SweepError> {
+    sets.iter()
+        .map(|s| s.parse::<Override>())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| SweepError::BadInput(e.to_string()))
+}
+
+/// The values of one `[sweep]` entry: a list, a range, or one value.
+fn axis_values(
+    name: &str,
+    key: &str,
+    value: &toml::Value,
+    base: &toml::Value,
+) -> Result<Vec<toml::Value>, String> {
+    let kind_ok = |v: &toml::Value| match base {
+        toml::Value::Float(_) | toml::Value::Integer(_) => as_number(v).is_some(),
+        toml::Value::Boolean(_) => matches!(v, toml::Value::Boolean(_)),
+        toml::Value::String(_) => matches!(v, toml::Value::String(_)),
+        // [x, y] pairs: one number (both) or a pair.
+        toml::Value::Array(_) => as_number(v).is_some() || matches!(v, toml::Value::Array(_)),
+        _ => true,
+    };
+    let expected = match base {
+        toml::Value::Float(_) | toml::Value::Integer(_) => "numbers",
+        toml::Value::Boolean(_) => "true/false",
+        toml::Value::String(_) => "\"quoted strings\"",
+        toml::Value::Array(_) => "numbers or [x, y] pairs",
+        _ => "values",
+    };
+    let values = match value {
+        toml::Value::Array(list) => {
+            if list.is_empty() {
+                return Err(format!(
+                    "sweep.{name}: an empty list; expected at least one value for {key}"
+                ));
+            }
+            list.clone()
+        }
+        toml::Value::Table(t) => {
+            for k in t.keys() {
+                if !RANGE_KEYS.contains(&k.as_str()) {
+                    return Err(format!(
+                        "sweep.{name}.{k}: unknown key in a range; expected {{ start = 5.0, stop = 10.0, count = 3 }}"
+                    ));
+                }
+            }
+            let num = |k: &str| -> Result<f64, String> {
+                t.get(k).and_then(as_number).filter(|v| v.is_finite()).ok_or_else(|| {
+                    format!("sweep.{name}: a range needs {k} = a number; expected {{ start = 5.0, stop = 10.0, count = 3 }}")
+                })
+            };
+            let (start, stop) = (num("start")?, num("stop")?);
+            let count = match t.get("count") {
+                Some(toml::Value::Integer(c)) if (1..=10_000).contains(c) => *c as usize,
+                _ => {
+                    return Err(format!(
+                        "sweep.{name}: a range needs count = a whole number from 1 to 10000 (both ends are included)"
+                    ));
+                }
+            };
+            if as_number(base).is_none() {
+                return Err(format!(
+                    "sweep.{name}: a range of numbers, but {key} takes {expected}; give a list instead"
+                ));
+            }
+            (0..count)
+                .map(|i| {
+                    let v = if count == 1 {
+                        start
+                    } else {
+                        start + (stop - start) * i as f64 / (count - 1) as f64
+                    };
+                    toml::Value::Float(tidy(v))
+                })
+                .collect()
+        }
+        one => vec![one.clone()],
+    };
+    if let Some(v) = values.iter().find(|v| !kind_ok(v)) {
+        return Err(format!(
+            "sweep.{name} = {}: expected {expected} for {key}",
+            show_value(v)
+        ));
+    }
+    Ok(values)
+}

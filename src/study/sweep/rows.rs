@@ -1,0 +1,259 @@
+//! The rows of `results.csv`: one per design, what came of it; written and read with the `csv`
+//! crate.
+
+use std::collections::HashMap;
+
+use serde::Serialize;
+use serde::Serializer;
+use serde::ser::SerializeMap;
+
+use super::grid::{Column, Design};
+use super::plan::Plan;
+use super::values::show_value;
+use crate::summary::RunSummary;
+use crate::verdict::{Facts, Verdict};
+
+/// The columns of `results.csv` after the parameters, in order: the contract's figures, then
+/// the design's id, its verdict and why it failed or is invalid.
+pub const FIGURE_COLUMNS: [&str; 10] = [
+    "max_shear_deg",
+    "max_tension_n",
+    "punch_force_n",
+    "feasible",
+    "converged",
+    "wall_s",
+    "map",
+    "design",
+    "verdict",
+    "failure",
+];
+
+/// One row of the results: a design and what came of it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub design: String,
+    pub index: usize,
+    /// (column, value) for every parameter column.
+    pub params: Vec<(String, toml::Value)>,
+    /// Rounded to the precision printed in `results.csv` (°: 4 decimals; N, s: 3).
+    pub max_shear_deg: Option<f64>,
+    pub max_tension_n: Option<f64>,
+    pub punch_force_n: Option<f64>,
+    pub feasible: bool,
+    pub converged: bool,
+    pub wall_s: Option<f64>,
+    /// `maps/<id>.png`, for designs that ran.
+    pub map: Option<String>,
+    pub verdict: Verdict,
+    pub failure: Option<String>,
+}
+
+impl Serialize for Row {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        struct Params<'a>(&'a [(String, toml::Value)]);
+        impl Serialize for Params<'_> {
+            fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                let mut m = s.serialize_map(Some(self.0.len()))?;
+                for (k, v) in self.0 {
+                    m.serialize_entry(k, v)?;
+                }
+                m.end()
+            }
+        }
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("design", &self.design)?;
+        m.serialize_entry("index", &self.index)?;
+        m.serialize_entry("params", &Params(&self.params))?;
+        m.serialize_entry("max_shear_deg", &self.max_shear_deg)?;
+        m.serialize_entry("max_tension_n", &self.max_tension_n)?;
+        m.serialize_entry("punch_force_n", &self.punch_force_n)?;
+        m.serialize_entry("feasible", &self.feasible)?;
+        m.serialize_entry("converged", &self.converged)?;
+        m.serialize_entry("wall_s", &self.wall_s)?;
+        m.serialize_entry("map", &self.map)?;
+        m.serialize_entry("verdict", &self.verdict)?;
+        m.serialize_entry("failure", &self.failure)?;
+        m.end()
+    }
+}
+
+pub(super) fn round_to(v: f64, decimals: i32) -> f64 {
+    let s = 10f64.powi(decimals);
+    (v * s).round() / s
+}
+
+/// One CSV record (RFC 4180 quoting where needed) with its newline; line breaks inside a field
+/// become spaces, so that a record is one line.
+fn csv_line(fields: &[String]) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(fields.iter().map(|f| f.replace(['\n', '\r'], " ")))
+        .expect("writing to memory");
+    String::from_utf8(w.into_inner().expect("writing to memory")).expect("UTF-8 in, UTF-8 out")
+}
+
+/// The header of `results.csv`.
+pub fn csv_header(columns: &[Column]) -> String {
+    let mut names: Vec<&str> = columns.iter().map(|c| c.name.as_str()).collect();
+    names.extend(FIGURE_COLUMNS);
+    names.join(",")
+}
+
+impl Row {
+    /// The row as a CSV line (with its newline).
+    pub fn to_csv(&self) -> String {
+        let opt = |v: Option<f64>, d: usize| v.map(|v| format!("{v:.d$}")).unwrap_or_default();
+        let mut fields: Vec<String> = self.params.iter().map(|(_, v)| show_value(v)).collect();
+        fields.extend([
+            opt(self.max_shear_deg, 4),
+            opt(self.max_tension_n, 3),
+            opt(self.punch_force_n, 3),
+            self.feasible.to_string(),
+            self.converged.to_string(),
+            opt(self.wall_s, 3),
+            self.map.clone().unwrap_or_default(),
+            self.design.clone(),
+            self.verdict.word().to_string(),
+            self.failure.clone().unwrap_or_default(),
+        ]);
+        csv_line(&fields)
+    }
+
+    pub(super) fn invalid(plan: &Plan, columns: &[Column], design: &Design, reason: String) -> Row {
+        Row {
+            design: design.id.clone(),
+            index: design.index,
+            params: plan.params(columns, design),
+            max_shear_deg: None,
+            max_tension_n: None,
+            punch_force_n: None,
+            feasible: false,
+            converged: false,
+            wall_s: None,
+            map: None,
+            verdict: Verdict::Invalid,
+            failure: Some(reason),
+        }
+    }
+
+    pub(super) fn failed(
+        plan: &Plan,
+        columns: &[Column],
+        design: &Design,
+        reason: String,
+        wall: f64,
+    ) -> Row {
+        Row {
+            verdict: Verdict::Failed,
+            wall_s: Some(round_to(wall, 3)),
+            ..Row::invalid(plan, columns, design, reason)
+        }
+    }
+
+    pub(super) fn from_summary(
+        plan: &Plan,
+        columns: &[Column],
+        design: &Design,
+        s: &RunSummary,
+    ) -> Row {
+        let verdict = Verdict::judge(&Facts {
+            converged: s.converged,
+            no_answer: false,
+            unsound: &s.unsound,
+            max_shear_deg: s.max_shear_deg,
+            max_tension_n: s.max_tension_n,
+            locking_angle_deg: s.locking_angle_deg,
+            break_tension_n: s.break_tension_n,
+            stroke_reached_mm: s.stroke_reached_mm,
+            stroke_mm: s.stroke_mm,
+        });
+        Row {
+            design: design.id.clone(),
+            index: design.index,
+            params: plan.params(columns, design),
+            max_shear_deg: Some(round_to(s.max_shear_deg, 4)),
+            max_tension_n: Some(round_to(s.max_tension_n, 3)),
+            punch_force_n: Some(round_to(s.punch_force_n, 3)),
+            feasible: s.feasible,
+            converged: s.converged,
+            wall_s: Some(round_to(s.wall_s, 3)),
+            map: Some(format!("maps/{}.png", design.id)),
+            verdict,
+            failure: s.failure.clone().or_else(|| {
+                (!s.unsound.is_empty()).then(|| format!("not sound: {}", s.unsound.join("; ")))
+            }),
+        }
+    }
+
+    /// Reads a row from its CSV fields; the design must be in the grid. `None` if anything is
+    /// off (a row half-written, from another grid, or with a figure that does not parse).
+    pub(super) fn from_csv(
+        header: &HashMap<&str, usize>,
+        fields: &csv::StringRecord,
+        plan: &Plan,
+        columns: &[Column],
+        grid: &HashMap<&str, &Design>,
+    ) -> Option<Row> {
+        let get = |name: &str| header.get(name).and_then(|&i| fields.get(i));
+        let design = *grid.get(get("design")?)?;
+        let num = |name: &str| -> Option<Option<f64>> {
+            let s = get(name)?;
+            if s.is_empty() {
+                Some(None)
+            } else {
+                s.parse::<f64>().ok().filter(|v| v.is_finite()).map(Some)
+            }
+        };
+        let boolean = |name: &str| match get(name)? {
+            "true" => Some(true),
+            "false" => Some(false),
+            _ => None,
+        };
+        let text = |name: &str| get(name).filter(|s| !s.is_empty()).map(String::from);
+        let verdict = Verdict::parse(get("verdict")?)?;
+        let row = Row {
+            design: design.id.clone(),
+            index: design.index,
+            params: plan.params(columns, design),
+            max_shear_deg: num("max_shear_deg")?,
+            max_tension_n: num("max_tension_n")?,
+            punch_force_n: num("punch_force_n")?,
+            feasible: boolean("feasible")?,
+            converged: boolean("converged")?,
+            wall_s: num("wall_s")?,
+            map: text("map"),
+            verdict,
+            failure: text("failure"),
+        };
+        // The parameters written must be the design's (the id's hash says so too).
+        for (name, v) in &row.params {
+            if let Some(s) = get(name)
+                && *s != show_value(v)
+            {
+                return None;
+            }
+        }
+        Some(row)
+    }
+}
+
+/// Counts of the verdicts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Counts {
+    pub feasible: usize,
+    pub infeasible: usize,
+    pub failed: usize,
+    pub invalid: usize,
+}
+
+pub fn counts(rows: &[Row]) -> Counts {
+    let mut c = Counts::default();
+    for r in rows {
+        match r.verdict {
+            Verdict::Feasible => c.feasible += 1,
+            Verdict::Infeasible => c.infeasible += 1,
+            Verdict::Failed => c.failed += 1,
+            Verdict::Invalid => c.invalid += 1,
+        }
+    }
+    c
+}

@@ -1,0 +1,330 @@
+//! Running a sweep: the designs of the grid (of the shard) without a row yet, in parallel,
+//! each solved on one thread; a row appended to `results.csv` and a field file written as
+//! each finishes, so that an interrupted sweep keeps what it did.
+
+use std::collections::HashSet;
+use std::fs;
+use std::io::Write as _;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::SweepError;
+use super::field::StoredField;
+use super::grid::{Column, Design};
+use super::plan::Plan;
+use super::rows::Row;
+use super::shard::Shard;
+use super::store::{self, ReadReport};
+use crate::core::drawing;
+use crate::scene::Scene;
+use crate::summary::RunSummary;
+use crate::verdict::Verdict;
+
+/// How to run a sweep.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// Designs run at once (threads); `None`: every core.
+    pub jobs: Option<usize>,
+    pub shard: Option<Shard>,
+    pub resume: bool,
+    /// Set from another thread to stop: designs not started are left, running ones end at
+    /// their next load step (their rows are not written, so a resume runs them again).
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+/// What a sweep reports while it runs.
+#[derive(Debug)]
+pub enum Progress<'a> {
+    /// Before the first design: designs to run, rows kept from an earlier run, invalid designs.
+    Start {
+        to_run: usize,
+        kept: &'a ReadReport,
+        invalid: usize,
+    },
+    /// A design finished (or was found invalid); counts over this run.
+    Done {
+        row: &'a Row,
+        done: usize,
+        total: usize,
+        feasible: usize,
+    },
+}
+
+/// What a sweep (or a merge) came to.
+#[derive(Debug)]
+pub struct Outcome {
+    /// Every row of the folder, in grid order.
+    pub rows: Vec<Row>,
+    /// Designs of the grid (of this shard) without a row.
+    pub missing: usize,
+    /// Designs run now, and rows kept from before.
+    pub ran: usize,
+    pub kept: ReadReport,
+    pub threads: usize,
+    /// Wall time of the designs' runs (from the first start to the last finish), s.
+    pub run_wall_s: f64,
+    /// Wall time of the whole call, s.
+    pub wall_s: f64,
+    /// The files written.
+    pub files: Vec<PathBuf>,
+    /// Stopped on request before every design had run.
+    pub stopped: bool,
+}
+
+/// The threads that run designs (or draw maps) at once; `None`: every core.
+pub fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool, SweepError> {
+    if jobs == Some(0) {
+        return Err(SweepError::BadInput(
+            "--jobs 0: expected at least one design at a time".into(),
+        ));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs.unwrap_or(0))
+        .thread_name(|i| format!("sweep-{i}"))
+        .build()
+        .map_err(|e| SweepError::Run(format!("cannot start the worker threads: {e}")))
+}
+
+/// The rows writer: one line per design, written whole and flushed, under a mutex.
+struct Sink<'a> {
+    state: Mutex<SinkState>,
+    progress: &'a (dyn Fn(Progress) + Sync),
+    total: usize,
+}
+
+struct SinkState {
+    file: fs::File,
+    rows: Vec<Row>,
+    feasible: usize,
+    error: Option<String>,
+    path: PathBuf,
+}
+
+impl Sink<'_> {
+    fn push(&self, row: Row) {
+        let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        let line = row.to_csv();
+        if let Err(e) = s
+            .file
+            .write_all(line.as_bytes())
+            .and_then(|_| s.file.flush())
+        {
+            let msg = format!("{}: cannot write a row: {e}", s.path.display());
+            s.error.get_or_insert(msg);
+        }
+        if row.verdict == Verdict::Feasible {
+            s.feasible += 1;
+        }
+        s.rows.push(row);
+        let (done, feasible) = (s.rows.len(), s.feasible);
+        (self.progress)(Progress::Done {
+            row: s.rows.last().expect("just pushed"),
+            done,
+            total: self.total,
+            feasible,
+        });
+    }
+}
+
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        s.to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "no message".into()
+    }
+}
+
+/// Runs one valid design: solve (single-threaded), its field file, its row; `None` when
+/// stopped on request before the end.
+fn run_design(
+    plan: &Plan,
+    columns: &[Column],
+    design: &Design,
+    scene: &Scene,
+    dir: &Path,
+    stop: Option<&AtomicBool>,
+) -> Option<Row> {
+    let mut problem = scene.to_problem();
+    problem.solver.parallel = false;
+    let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
+    let start = std::time::Instant::now();
+    let result = drawing::solve_until(&problem, &mut |_| {
+        if stopped() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    if stopped() {
+        return None;
+    }
+    let summary = RunSummary::new(&design.id, scene, &result, start.elapsed().as_secs_f64());
+    let mut row = Row::from_summary(plan, columns, design, &summary);
+    if let Err(e) = StoredField::of_run(design, &summary, &result, &problem.tooling).write(dir) {
+        row.map = None;
+        let note = format!("the field was not saved: {e}");
+        row.failure = Some(match row.failure.take() {
+            Some(f) => format!("{f}; {note}"),
+            None => note,
+        });
+    }
+    Some(row)
+}
+
+/// Runs a sweep into `dir`: the designs of the grid (of the shard) without a row yet, in
+/// parallel; then the maps, the report sheet and `results.json`.
+pub fn run(
+    plan: &Plan,
+    dir: &Path,
+    options: &Options,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Outcome, SweepError> {
+    let start = Instant::now();
+    let pool = pool(options.jobs)?;
+    let csv_path = dir.join("results.csv");
+    let columns = plan.columns();
+    let designs = plan.designs();
+    // Before any work: the folder, the earlier rows, the lock.
+    let (kept_rows, kept) = if options.resume && csv_path.exists() {
+        let lock = store::read_lock(dir).map_err(|e| {
+            SweepError::BadInput(format!(
+                "--resume: {e}; cannot tell which sweep {} belongs to (remove the folder, or use another --out)",
+                csv_path.display()
+            ))
+        })?;
+        if lock.base_hash != plan.base_hash {
+            return Err(SweepError::BadInput(format!(
+                "--resume: {} was swept with another base scene ({} with {}; now {} with {}): its rows cannot be reused; use another --out, or remove the folder to start again",
+                dir.display(),
+                lock.plan.sweep_file,
+                lock.plan.base_file.as_deref().unwrap_or("the inline scene"),
+                plan.sweep_file,
+                plan.base_file.as_deref().unwrap_or("the inline scene"),
+            )));
+        }
+        store::read_rows(dir, plan).map_err(|e| SweepError::Run(e.to_string()))?
+    } else if csv_path.exists() {
+        return Err(SweepError::BadInput(format!(
+            "{} exists: add --resume to continue that sweep, or choose another --out",
+            csv_path.display()
+        )));
+    } else {
+        (Vec::new(), ReadReport::default())
+    };
+    store::prepare_dir(dir, plan, options.shard)
+        .map_err(|e| SweepError::BadInput(e.to_string()))?;
+    // The CSV, rewritten with the rows kept (a half-written line or a duplicate goes).
+    store::write_rows(dir, plan, &kept_rows).map_err(|e| {
+        SweepError::BadInput(format!(
+            "{}: cannot write the output folder: {e}",
+            dir.display()
+        ))
+    })?;
+    let file = fs::OpenOptions::new()
+        .append(true)
+        .open(&csv_path)
+        .map_err(|e| SweepError::BadInput(format!("{}: cannot write: {e}", csv_path.display())))?;
+
+    let have: HashSet<&str> = kept_rows.iter().map(|r| r.design.as_str()).collect();
+    let pending: Vec<&Design> = designs
+        .iter()
+        .filter(|d| options.shard.is_none_or(|s| s.contains(d.index)))
+        .filter(|d| !have.contains(d.id.as_str()))
+        .collect();
+    let mut valid = Vec::new();
+    let mut invalid = Vec::new();
+    for d in pending {
+        match plan.design_scene(d) {
+            Ok(scene) => valid.push((d, scene)),
+            Err(reason) => invalid.push(Row::invalid(plan, &columns, d, reason)),
+        }
+    }
+    progress(Progress::Start {
+        to_run: valid.len(),
+        kept: &kept,
+        invalid: invalid.len(),
+    });
+    let sink = Sink {
+        state: Mutex::new(SinkState {
+            file,
+            rows: Vec::new(),
+            feasible: 0,
+            error: None,
+            path: csv_path.clone(),
+        }),
+        progress,
+        total: valid.len() + invalid.len(),
+    };
+    for row in invalid {
+        sink.push(row);
+    }
+    let run_start = Instant::now();
+    let stop = options.stop.as_deref();
+    pool.install(|| {
+        valid.par_iter().with_max_len(1).for_each(|(d, scene)| {
+            if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                return;
+            }
+            let t = Instant::now();
+            let row = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                run_design(plan, &columns, d, scene, dir, stop)
+            }))
+            .unwrap_or_else(|payload| {
+                let reason = format!(
+                    "the program failed on this design: {}",
+                    panic_message(&*payload)
+                );
+                Some(Row::failed(
+                    plan,
+                    &columns,
+                    d,
+                    reason,
+                    t.elapsed().as_secs_f64(),
+                ))
+            });
+            if let Some(row) = row {
+                sink.push(row);
+            }
+        });
+    });
+    let stopped = stop.is_some_and(|s| s.load(Ordering::Relaxed));
+    let run_wall_s = run_start.elapsed().as_secs_f64();
+    let state = sink.state.into_inner().unwrap_or_else(|e| e.into_inner());
+    if let Some(e) = state.error {
+        return Err(SweepError::Run(e));
+    }
+    let ran = state
+        .rows
+        .iter()
+        .filter(|r| r.verdict != Verdict::Invalid)
+        .count();
+    let mut rows = kept_rows;
+    rows.extend(state.rows);
+    rows.sort_by_key(|r| r.index);
+    let mine = designs
+        .iter()
+        .filter(|d| options.shard.is_none_or(|s| s.contains(d.index)))
+        .count();
+    let present = rows
+        .iter()
+        .filter(|r| options.shard.is_none_or(|s| s.contains(r.index)))
+        .count();
+    Ok(Outcome {
+        missing: mine.saturating_sub(present),
+        rows,
+        ran,
+        kept,
+        threads: pool.current_num_threads(),
+        run_wall_s,
+        wall_s: start.elapsed().as_secs_f64(),
+        files: vec![csv_path],
+        stopped,
+    })
+}

@@ -1,0 +1,212 @@
+//! The output folder of a sweep: `sweep.lock` (the plan, written before any work),
+//! `results.csv` (a row appended as each design finishes) and `fields/` (see [`super::field`]);
+//! reading them back for a resume or a merge.
+
+use std::collections::{HashMap, HashSet};
+use std::fs;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::field::StoredField;
+use super::grid::Design;
+use super::plan::Plan;
+use super::rows::{Row, csv_header};
+use super::shard::Shard;
+
+/// Why the folder could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum StoreError {
+    #[error("{}: cannot {action}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        action: &'static str,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}: {source}", path.display())]
+    NoLock {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}: not a sweep lock file: {source}", path.display())]
+    BadLock {
+        path: PathBuf,
+        #[source]
+        source: serde_json::Error,
+    },
+    #[error("{}: {source}", path.display())]
+    Field {
+        path: PathBuf,
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
+}
+
+fn io(path: &Path, action: &'static str) -> impl FnOnce(std::io::Error) -> StoreError {
+    let path = path.to_path_buf();
+    move |source| StoreError::Io {
+        path,
+        action,
+        source,
+    }
+}
+
+/// What `sweep.lock` holds.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Lock {
+    pub program: String,
+    pub version: String,
+    pub base_hash: String,
+    pub sweep_hash: String,
+    pub shard: Option<String>,
+    pub plan: Plan,
+}
+
+/// Reads `dir/sweep.lock`.
+pub fn read_lock(dir: &Path) -> Result<Lock, StoreError> {
+    let path = dir.join("sweep.lock");
+    let text = fs::read_to_string(&path).map_err(|source| StoreError::NoLock {
+        path: path.clone(),
+        source,
+    })?;
+    serde_json::from_str(&text).map_err(|source| StoreError::BadLock { path, source })
+}
+
+/// Writes `text` to `path` through a temporary file in the same folder and a rename (never
+/// half a file).
+pub fn write_atomic(path: &Path, text: &str) -> Result<(), StoreError> {
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+    let dir = dir.unwrap_or(Path::new("."));
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(io(dir, "write"))?;
+    tmp.write_all(text.as_bytes())
+        .map_err(io(tmp.path(), "write"))?;
+    tmp.persist(path).map_err(|e| io(path, "write")(e.error))?;
+    Ok(())
+}
+
+/// Creates `dir`, `dir/maps` and `dir/fields` and writes `dir/sweep.lock`.
+pub fn prepare_dir(dir: &Path, plan: &Plan, shard: Option<Shard>) -> Result<(), StoreError> {
+    for d in [dir.to_path_buf(), dir.join("maps"), dir.join("fields")] {
+        fs::create_dir_all(&d).map_err(io(&d, "write the output folder"))?;
+    }
+    let lock = Lock {
+        program: "wovenform".into(),
+        version: env!("CARGO_PKG_VERSION").into(),
+        base_hash: plan.base_hash.clone(),
+        sweep_hash: plan.sweep_hash.clone(),
+        shard: shard.map(|s| s.to_string()),
+        plan: plan.clone(),
+    };
+    let text = serde_json::to_string_pretty(&lock).expect("the lock is plain data");
+    write_atomic(&dir.join("sweep.lock"), &(text + "\n"))
+}
+
+/// Writes `results.csv` whole: the header and `rows`.
+pub fn write_rows(dir: &Path, plan: &Plan, rows: &[Row]) -> Result<PathBuf, StoreError> {
+    let path = dir.join("results.csv");
+    let mut text = csv_header(&plan.columns()) + "\n";
+    for r in rows {
+        text.push_str(&r.to_csv());
+    }
+    write_atomic(&path, &text)?;
+    Ok(path)
+}
+
+/// What the rows of an existing `results.csv` came to.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ReadReport {
+    /// Rows kept.
+    pub kept: usize,
+    /// A last line without its newline (the program was stopped while writing it).
+    pub truncated: usize,
+    /// Rows whose design is not in this grid, or that do not parse.
+    pub foreign: usize,
+    /// Rows of a design already read.
+    pub duplicates: usize,
+    /// Rows whose field file is missing (they are run again).
+    pub no_field: usize,
+}
+
+impl ReadReport {
+    pub fn dropped(&self) -> usize {
+        self.truncated + self.foreign + self.duplicates + self.no_field
+    }
+
+    pub fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        if self.truncated > 0 {
+            parts.push(format!("{} half-written last line", self.truncated));
+        }
+        if self.foreign > 0 {
+            parts.push(format!("{} not of this grid", self.foreign));
+        }
+        if self.duplicates > 0 {
+            parts.push(format!("{} duplicate", self.duplicates));
+        }
+        if self.no_field > 0 {
+            parts.push(format!("{} without their field file", self.no_field));
+        }
+        if parts.is_empty() {
+            format!("kept {} rows", self.kept)
+        } else {
+            format!("kept {} rows, dropped {}", self.kept, parts.join(", "))
+        }
+    }
+}
+
+/// Reads the rows of `dir/results.csv` that belong to the plan's grid (first of each design).
+pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), StoreError> {
+    let path = dir.join("results.csv");
+    let mut text = match fs::read(&path) {
+        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Default::default()),
+        Err(e) => return Err(io(&path, "read")(e)),
+    };
+    let mut report = ReadReport::default();
+    // A last line without its newline was being written when the program stopped.
+    if !text.is_empty() && !text.ends_with('\n') {
+        let cut = text.rfind('\n').map_or(0, |i| i + 1);
+        text.truncate(cut);
+        report.truncated = 1;
+    }
+    let mut reader = csv::ReaderBuilder::new()
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let Ok(header_fields) = reader.headers().cloned() else {
+        return Ok((Vec::new(), report));
+    };
+    let header: HashMap<&str, usize> = header_fields
+        .iter()
+        .enumerate()
+        .map(|(i, h)| (h, i))
+        .collect();
+    let columns = plan.columns();
+    let designs = plan.designs();
+    let grid: HashMap<&str, &Design> = designs.iter().map(|d| (d.id.as_str(), d)).collect();
+    let mut seen = HashSet::new();
+    let mut rows = Vec::new();
+    for record in reader.records() {
+        let row = record
+            .ok()
+            .filter(|f| f.len() == header_fields.len())
+            .and_then(|f| Row::from_csv(&header, &f, plan, &columns, &grid));
+        let Some(row) = row else {
+            report.foreign += 1;
+            continue;
+        };
+        if !seen.insert(row.design.clone()) {
+            report.duplicates += 1;
+            continue;
+        }
+        if row.map.is_some() && StoredField::read(dir, &row.design).is_err() {
+            report.no_field += 1;
+            continue;
+        }
+        rows.push(row);
+    }
+    report.kept = rows.len();
+    Ok((rows, report))
+}

@@ -1,0 +1,164 @@
+//! The summary of one drawing run: the figures a user checks, with units in their names, and
+//! the verdict on them (from [`crate::verdict`]). `wovenform run --json` prints it; the sweep
+//! makes a row of it; `report::summary` writes it out as text and files.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::accuracy::Accuracy;
+use crate::core::drawing::{DrawingFailure, DrawingResult};
+use crate::scene::Scene;
+use crate::verdict::{Facts, Verdict};
+
+/// What `run --json` prints and `summary.json` holds. Every figure carries its unit in its name.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    /// The scene's name (its file stem).
+    pub scene: String,
+    pub converged: bool,
+    /// Why the run stopped short, if it did.
+    pub failure: Option<String>,
+    /// Converged, shear within the locking angle and yarn tension within the break tension.
+    pub feasible: bool,
+    /// The verdict in a few words (also in the maps' titles).
+    pub verdict: String,
+    /// Largest |shear angle|, degrees, and where (final position of the element's centre, mm,
+    /// in the solved part).
+    pub max_shear_deg: f64,
+    pub max_shear_at: [f64; 3],
+    pub locking_angle_deg: f64,
+    /// Share of the blank's initial area sheared past the locking angle, %.
+    pub area_over_limit_pct: f64,
+    /// Largest yarn tension, N, and the breaking tension, N.
+    pub max_tension_n: f64,
+    pub break_tension_n: f64,
+    /// Punch force on the whole blank at the end, N.
+    pub punch_force_n: f64,
+    /// Stroke asked for and reached, mm.
+    pub stroke_mm: f64,
+    pub stroke_reached_mm: f64,
+    /// Largest penetration of a node into a tool, mm.
+    pub penetration_mm: f64,
+    /// Largest draw-in of the blank's edge, mm.
+    pub draw_in_mm: f64,
+    pub wall_s: f64,
+    /// The accuracy level of the scene's mesh (`coarse`, `standard`, `fine`), when it is one,
+    /// and that level's measured errors (see `crate::accuracy`).
+    pub accuracy: Option<String>,
+    pub max_shear_err_deg: Option<f64>,
+    pub punch_force_err_pct: Option<f64>,
+    pub dofs: usize,
+    /// Elements of the solved part, and which part was solved ("quarter" or "full").
+    pub elements: usize,
+    pub solved_part: String,
+    pub steps: u32,
+    pub cutbacks: u32,
+    pub newton_iterations: u32,
+    /// Work done by forces out of balance over the punch's work (dimensionless): what of the
+    /// punch's work is not the paper's model. The stabilisation damps the Newton corrections
+    /// only, so a converged state carries none of it.
+    pub stabilisation_work_share: f64,
+    /// Why a converged result cannot be trusted (empty: it can): too deep a penetration, too
+    /// much work out of balance.
+    pub unsound: Vec<String>,
+    /// A singular tangent was met during the run (part of the blank was a mechanism).
+    pub mechanism: bool,
+    /// Terms the scene did not need and that were not built.
+    pub left_out: Vec<String>,
+    /// The files written, by kind (`summary`, `shear_map`, `tension_map`, `vtu`).
+    pub files: BTreeMap<String, String>,
+    /// The scene as run (every key, defaults filled in).
+    pub inputs: Scene,
+}
+
+impl RunSummary {
+    /// The summary of `result`, which took `wall_s` seconds.
+    pub fn new(name: &str, scene: &Scene, result: &DrawingResult, wall_s: f64) -> RunSummary {
+        let locking = scene.fabric.locking_angle_deg;
+        let breaking = scene.fabric.break_tension_n;
+        let (e, max_shear_deg) = result.max_shear();
+        let max_tension_n = result.max_tension_n();
+        let unsound: Vec<String> = if result.converged {
+            result.unsound().iter().map(|u| u.to_string()).collect()
+        } else {
+            Vec::new()
+        };
+        let facts = Facts {
+            converged: result.converged,
+            no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_))),
+            unsound: &unsound,
+            max_shear_deg,
+            max_tension_n,
+            locking_angle_deg: locking,
+            break_tension_n: breaking,
+            stroke_reached_mm: result.stroke_reached_mm,
+            stroke_mm: scene.process.stroke,
+        };
+        let feasible = Verdict::judge(&facts) == Verdict::Feasible;
+        let verdict = Verdict::sentence(&facts);
+        let level = Accuracy::of_element_size(scene.mesh.element_size);
+        let max_shear_at = if result.shear_deg.is_empty() {
+            [0.0; 3]
+        } else {
+            result.element_centre(e)
+        };
+        RunSummary {
+            scene: name.to_string(),
+            converged: result.converged,
+            failure: result.failure.as_ref().map(|f| f.to_string()),
+            feasible,
+            verdict,
+            max_shear_deg,
+            max_shear_at,
+            locking_angle_deg: locking,
+            area_over_limit_pct: result.area_over_limit_pct(locking),
+            max_tension_n,
+            break_tension_n: breaking,
+            punch_force_n: result.punch_force_n,
+            stroke_mm: scene.process.stroke,
+            stroke_reached_mm: result.stroke_reached_mm,
+            penetration_mm: result.penetration_mm,
+            draw_in_mm: result.draw_in_mm,
+            wall_s,
+            accuracy: level.map(|a| a.name().to_string()),
+            max_shear_err_deg: level.map(|a| a.error().max_shear_deg),
+            punch_force_err_pct: level.map(|a| a.error().punch_force_pct),
+            dofs: result.dofs,
+            elements: result.mesh.quads.len(),
+            solved_part: if result.quarter { "quarter" } else { "full" }.to_string(),
+            steps: result.stats.steps,
+            cutbacks: result.stats.cutbacks,
+            newton_iterations: result.stats.newton_iterations,
+            stabilisation_work_share: result.unbalanced_work_share,
+            unsound,
+            mechanism: result.stats.mechanism,
+            left_out: result.left_out.iter().map(|l| l.to_string()).collect(),
+            files: BTreeMap::new(),
+            inputs: scene.clone(),
+        }
+    }
+
+    /// One JSON object on one line.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).expect("the summary is plain data")
+    }
+}
+
+/// What a map of the run shows: the part of the blank and the stroke reached.
+pub fn what_is_drawn(result: &DrawingResult, stroke_mm: f64) -> String {
+    let part = if result.quarter {
+        "full blank (the solved quarter mirrored)"
+    } else {
+        "full blank"
+    };
+    let stroke = if result.converged {
+        format!("stroke {:.1} mm", result.stroke_reached_mm)
+    } else {
+        format!(
+            "stopped at stroke {:.1} of {:.1} mm",
+            result.stroke_reached_mm, stroke_mm
+        )
+    };
+    format!("deformed blank seen from above, {part}, {stroke}; dashed: die opening")
+}
