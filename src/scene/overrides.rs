@@ -62,18 +62,27 @@ impl FromStr for Override {
     }
 }
 
-/// Who set the keys: the last override that set any of them (or a table holding it), else
-/// `origin` (the file, or [`super::DEFAULT_ORIGIN`]). Shown as `--set KEY=VALUE`.
+/// Who set the keys: the last override that [`touches`] any of them, else `origin` (the file,
+/// or [`super::DEFAULT_ORIGIN`]). Shown as `--set KEY=VALUE`.
 pub(super) fn blame(overrides: &[Override], origin: &str, keys: &[&str]) -> String {
     overrides
         .iter()
         .rev()
-        .find(|o| {
-            keys.iter()
-                .any(|k| o.key == *k || k.starts_with(&format!("{}.", o.key)))
-        })
+        .find(|o| keys.iter().any(|k| touches(&o.key, k)))
         .map(|o| format!("--set {}", o.text))
         .unwrap_or_else(|| origin.to_string())
+}
+
+/// Whether an override of `set` touches `key` (a dotted key, or a serde path such as
+/// `fabric.l0[1]`): it is the key, a table holding it, the array holding it, or a key inside
+/// it (an override of `nosuch.key` brings in the unknown section `nosuch`).
+fn touches(set: &str, key: &str) -> bool {
+    let below = |inner: &str, outer: &str, marks: &[char]| {
+        inner
+            .strip_prefix(outer)
+            .is_some_and(|rest| rest.starts_with(marks))
+    };
+    set == key || below(key, set, &['.', '[']) || below(set, key, &['.'])
 }
 
 /// Sets `o.key` in the table, creating intermediate tables as needed.
@@ -173,6 +182,29 @@ mod tests {
             blame(&sets[..1], "x.toml", &["tools.side", "tools.r"]),
             "--set tools.r=1"
         );
+        assert_eq!(blame(&sets, "x.toml", &["tool"]), "x.toml");
+    }
+
+    #[test]
+    fn an_override_touches_its_key_the_tables_around_it_and_what_is_inside() {
+        for (set, key) in [
+            ("fabric.l0", "fabric.l0"),
+            ("fabric", "fabric.l0"),
+            ("fabric.l0", "fabric.l0[1]"),
+            ("nosuch.key", "nosuch"),
+            ("tools.r.x", "tools.r"),
+        ] {
+            assert!(touches(set, key), "{set} → {key}");
+        }
+        for (set, key) in [
+            ("fabric.l0", "fabric.l"),
+            ("fabric.l", "fabric.l0"),
+            ("tools.r", "tools.rp"),
+            ("tools.rp", "tools.r"),
+            ("fabric.l0[1]", "fabric.l0"),
+        ] {
+            assert!(!touches(set, key), "{set} → {key}");
+        }
     }
 
     #[test]
@@ -188,6 +220,10 @@ mod tests {
         let e = parse("", &["fabric.bar=2"]).unwrap_err();
         assert_eq!(e.origin, "--set fabric.bar=2");
         assert!(e.detail.contains("fabric.bar"), "{e}");
+        // An unknown section that only a --set brings in is blamed on it, not on the file.
+        let e = parse("[fabric]\na = 0.05\n", &["nosuch.key=1"]).unwrap_err();
+        assert_eq!(e.origin, "--set nosuch.key=1");
+        assert_eq!(e.key.as_deref(), Some("nosuch"), "{e}");
     }
 
     #[test]
@@ -195,5 +231,9 @@ mod tests {
         let e = parse("[fabric]\nundulation = 3\n", &[]).unwrap_err();
         assert_eq!(e.key.as_deref(), Some("fabric.undulation"), "{e}");
         assert!(e.detail.contains("= 3"), "{e}");
+        // A wrong element of an array given with --set: the --set is blamed.
+        let e = parse("", &["fabric.l0=[1,\"x\"]"]).unwrap_err();
+        assert_eq!(e.origin, "--set fabric.l0=[1,\"x\"]", "{e}");
+        assert_eq!(e.key.as_deref(), Some("fabric.l0[1]"), "{e}");
     }
 }
