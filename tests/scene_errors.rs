@@ -57,6 +57,12 @@ fn unknown_keys_and_sections_are_named() {
         &["--set", "process.speed=3"],
         &["--set process.speed=3", "process.speed", "unknown key"],
     );
+    // A section only the --set brings in is blamed on the --set, not on the file.
+    assert_rejected(
+        &open,
+        &["--set", "nosuch.key=1"],
+        &["error: --set nosuch.key=1: nosuch: unknown section"],
+    );
 }
 
 #[test]

@@ -1,0 +1,162 @@
+//! Dotted keys: finding `a.b.c` in a TOML table, and which `[tools]` keys each punch takes.
+//!
+//! The keys of every table are those of its serde type (`types.rs`), each table rejecting
+//! unknown ones by name; the `[tools]` table holds the keys of all three punches, so the keys
+//! of a punch other than `tools.kind` are rejected here.
+
+use super::overrides::Override;
+use super::types::ToolKind;
+use super::{Scene, SceneError};
+
+/// The value at a dotted key such as `tools.r` or `fabric`: each part but the last names a
+/// table. `None` when a part is missing or names a value that is not a table.
+pub fn lookup<'a>(table: &'a toml::Table, key: &str) -> Option<&'a toml::Value> {
+    let mut parts = key.split('.');
+    let mut v = table.get(parts.next()?)?;
+    for p in parts {
+        v = match v {
+            toml::Value::Table(t) => t.get(p)?,
+            _ => return None,
+        };
+    }
+    Some(v)
+}
+
+/// Whether `key` is written as a dotted key: parts of ASCII letters, digits, `_` and `-`,
+/// joined by dots (TOML's bare keys).
+pub(super) fn is_dotted_key(key: &str) -> bool {
+    key.split('.').all(|p| {
+        !p.is_empty()
+            && p.chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    })
+}
+
+/// `[tools]` keys that every punch takes.
+const SHARED_TOOL_KEYS: [&str; 2] = ["rm", "clearance"];
+
+impl ToolKind {
+    /// Every kind of punch.
+    const ALL: [ToolKind; 3] = [ToolKind::Box, ToolKind::Ellipsoid, ToolKind::Hemisphere];
+
+    /// The `[tools]` keys that describe this punch only (the others are shared).
+    fn own_keys(self) -> &'static [&'static str] {
+        match self {
+            ToolKind::Box => &["side", "r", "rp"],
+            ToolKind::Ellipsoid => &["axes"],
+            ToolKind::Hemisphere => &["radius"],
+        }
+    }
+
+    /// The punch that `tools.{name}` belongs to alone, if it belongs to one.
+    fn owner_of(name: &str) -> Option<ToolKind> {
+        ToolKind::ALL
+            .into_iter()
+            .find(|k| k.own_keys().contains(&name))
+    }
+}
+
+impl Scene {
+    /// Rejects `[tools]` keys of another kind of punch (they would be silently ignored). When
+    /// `tools.kind` itself comes from `--set`, the file's keys for the old kind are let pass.
+    pub(super) fn check_kind_keys(
+        &self,
+        table: &toml::Table,
+        overrides: &[Override],
+        origin: &str,
+        origin_of: &dyn Fn(&str) -> String,
+    ) -> Result<(), SceneError> {
+        let Some(toml::Value::Table(tools)) = table.get("tools") else {
+            return Ok(());
+        };
+        let kind = self.tools.kind;
+        let kind_overridden = overrides
+            .iter()
+            .any(|o| o.key == "tools.kind" || o.key == "tools");
+        for name in tools.keys() {
+            let Some(owner) = ToolKind::owner_of(name).filter(|&k| k != kind) else {
+                continue;
+            };
+            let key = format!("tools.{name}");
+            let blamed = origin_of(&key);
+            if kind_overridden && blamed == origin {
+                continue;
+            }
+            let mut keys: Vec<&str> = kind.own_keys().to_vec();
+            keys.extend(SHARED_TOOL_KEYS);
+            return Err(SceneError {
+                origin: blamed,
+                detail: format!(
+                    "{key}: only for tools.kind = \"{}\"; expected, for tools.kind = \"{}\", one of: {}",
+                    owner.name(),
+                    kind.name(),
+                    keys.join(", ")
+                ),
+                key: Some(key),
+            });
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::parse;
+    use super::*;
+
+    #[test]
+    fn lookup_follows_tables_only() {
+        let t: toml::Table = "a = 1\n[b]\nc = [1, 2]\n[b.d]\ne = \"x\"\n"
+            .parse()
+            .unwrap();
+        assert_eq!(lookup(&t, "a"), Some(&toml::Value::Integer(1)));
+        assert_eq!(lookup(&t, "b.d.e"), Some(&toml::Value::String("x".into())));
+        assert!(matches!(lookup(&t, "b.d"), Some(toml::Value::Table(_))));
+        assert!(matches!(lookup(&t, "b.c"), Some(toml::Value::Array(_))));
+        for missing in ["", "z", "b.z", "a.x", "b.c.0", "b.c[0]", "b..d"] {
+            assert_eq!(lookup(&t, missing), None, "{missing}");
+        }
+    }
+
+    #[test]
+    fn dotted_keys_are_bare_toml_keys() {
+        for ok in ["a", "fabric.l0", "tools.side-x", "a_b.c9"] {
+            assert!(is_dotted_key(ok), "{ok}");
+        }
+        for bad in ["", ".a", "a.", "a..b", "a b", "a.\"b\"", "é"] {
+            assert!(!is_dotted_key(bad), "{bad}");
+        }
+    }
+
+    #[test]
+    fn every_kind_key_has_one_owner() {
+        for kind in ToolKind::ALL {
+            for name in kind.own_keys() {
+                assert_eq!(ToolKind::owner_of(name), Some(kind), "{name}");
+            }
+        }
+        for name in SHARED_TOOL_KEYS.into_iter().chain(["kind", "nose"]) {
+            assert_eq!(ToolKind::owner_of(name), None, "{name}");
+        }
+    }
+
+    #[test]
+    fn keys_of_another_punch_are_rejected() {
+        let e = parse("[tools]\nkind = \"ellipsoid\"\nr = 5\n", &[]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("tools.r"), "{e}");
+        assert!(e.detail.contains("only for tools.kind = \"box\""), "{e}");
+        let e = parse("", &["tools.axes=[30,20,10]"]).unwrap_err();
+        assert_eq!(e.origin, "--set tools.axes=[30,20,10]");
+        // Switching the kind with --set lets the file's box keys pass.
+        let s = parse(
+            "[tools]\nr = 5\nrp = 6\n",
+            &[
+                "tools.kind=\"hemisphere\"",
+                "tools.radius=20",
+                "process.stroke=15",
+            ],
+        )
+        .unwrap();
+        assert_eq!(s.tools.kind, ToolKind::Hemisphere);
+    }
+}

@@ -1,0 +1,239 @@
+//! `--set KEY=VALUE` overrides, applied to the scene's TOML table before it is typed, and the
+//! errors of typing that table (unknown keys, wrong types), each blamed on the file or on the
+//! `--set` that brought the key in.
+
+use std::str::FromStr;
+
+use super::SceneError;
+use super::keys::{is_dotted_key, lookup};
+
+/// One `--set KEY=VALUE` override; VALUE is a TOML literal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Override {
+    /// Dotted key, e.g. `fabric.l0`.
+    pub key: String,
+    pub value: toml::Value,
+    /// The text as given, for error messages.
+    pub text: String,
+}
+
+impl FromStr for Override {
+    type Err = SceneError;
+
+    fn from_str(text: &str) -> Result<Self, SceneError> {
+        let origin = format!("--set {text}");
+        let err = |key: Option<String>, detail: String| SceneError {
+            origin: origin.clone(),
+            key,
+            detail,
+        };
+        let Some((key, value)) = text.split_once('=') else {
+            return Err(err(
+                None,
+                "expected KEY=VALUE with VALUE a TOML literal, e.g. fabric.a=0.05".into(),
+            ));
+        };
+        let key = key.trim();
+        if !is_dotted_key(key) {
+            return Err(err(
+                None,
+                format!("`{key}` is not a key: expected a dotted key such as fabric.a"),
+            ));
+        }
+        let doc = format!("v = {}", value.trim());
+        let value = doc
+            .parse::<toml::Table>()
+            .ok()
+            .and_then(|mut t| t.remove("v"))
+            .ok_or_else(|| {
+                err(
+                    Some(key.to_string()),
+                    format!(
+                        "{key} = {}: expected a TOML literal (a number, true/false, [a, b], or a \"quoted string\")",
+                        value.trim()
+                    ),
+                )
+            })?;
+        Ok(Override {
+            key: key.to_string(),
+            value,
+            text: text.to_string(),
+        })
+    }
+}
+
+/// Who set the keys: the last override that [`touches`] any of them, else `origin` (the file,
+/// or [`super::DEFAULT_ORIGIN`]). Shown as `--set KEY=VALUE`.
+pub(super) fn blame(overrides: &[Override], origin: &str, keys: &[&str]) -> String {
+    overrides
+        .iter()
+        .rev()
+        .find(|o| keys.iter().any(|k| touches(&o.key, k)))
+        .map(|o| format!("--set {}", o.text))
+        .unwrap_or_else(|| origin.to_string())
+}
+
+/// Whether an override of `set` touches `key` (a dotted key, or a serde path such as
+/// `fabric.l0[1]`): it is the key, a table holding it, the array holding it, or a key inside
+/// it (an override of `nosuch.key` brings in the unknown section `nosuch`).
+fn touches(set: &str, key: &str) -> bool {
+    let below = |inner: &str, outer: &str, marks: &[char]| {
+        inner
+            .strip_prefix(outer)
+            .is_some_and(|rest| rest.starts_with(marks))
+    };
+    set == key || below(key, set, &['.', '[']) || below(set, key, &['.'])
+}
+
+/// Sets `o.key` in the table, creating intermediate tables as needed.
+pub(super) fn apply_override(table: &mut toml::Table, o: &Override) -> Result<(), SceneError> {
+    let parts: Vec<&str> = o.key.split('.').collect();
+    let (last, parents) = parts.split_last().expect("a key has at least one part");
+    let mut t = table;
+    for (i, p) in parents.iter().enumerate() {
+        let entry = t
+            .entry(p.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        t = match entry {
+            toml::Value::Table(inner) => inner,
+            _ => {
+                let at = parts[..=i].join(".");
+                return Err(SceneError {
+                    origin: format!("--set {}", o.text),
+                    key: Some(o.key.clone()),
+                    detail: format!("{at} is a value, not a table, so it has no key {}", o.key),
+                });
+            }
+        };
+    }
+    t.insert(last.to_string(), o.value.clone());
+    Ok(())
+}
+
+/// Turns a serde error at `path` into a message naming the key and the expectation.
+pub(super) fn structural_error(
+    path: &str,
+    message: &str,
+    table: &toml::Table,
+    origin_of: &dyn Fn(&str) -> String,
+) -> SceneError {
+    // serde: "unknown field `x`, expected one of `a`, `b`" (path = the table, or the key itself).
+    if let Some(rest) = message.strip_prefix("unknown field `") {
+        let (name, expected) = rest.split_once('`').unwrap_or((rest, ""));
+        let key = if path == "." || path.is_empty() {
+            name.to_string()
+        } else if path.ends_with(name) {
+            path.to_string()
+        } else {
+            format!("{path}.{name}")
+        };
+        let expected = expected
+            .trim_start_matches(", ")
+            .replace("expected one of", "expected one of:")
+            .replace("expected nothing", "expected no keys here")
+            .replace('`', "");
+        let section = if key.contains('.') { "key" } else { "section" };
+        return SceneError {
+            origin: origin_of(&key),
+            detail: format!("{key}: unknown {section}; {expected}"),
+            key: Some(key),
+        };
+    }
+    let shown = lookup(table, path)
+        .map(|v| format!(" = {v}"))
+        .unwrap_or_default();
+    SceneError {
+        origin: origin_of(path),
+        detail: format!("{path}{shown}: {message}"),
+        key: Some(path.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::parse;
+    use super::*;
+
+    #[test]
+    fn overrides_apply_in_order() {
+        let s = parse(
+            "[fabric]\na = 0.05\n",
+            &["fabric.a=0.06", "fabric.l0=[5.0,4.0]"],
+        )
+        .unwrap();
+        assert_eq!(s.fabric.a, 0.06);
+        assert_eq!(s.fabric.l0.0, [5.0, 4.0]);
+        assert!("fabric.a".parse::<Override>().is_err());
+        assert!("fabric.a=abc".parse::<Override>().is_err());
+        let e = parse("[fabric]\na = 0.05\n", &["fabric.a.x=1"]).unwrap_err();
+        assert!(e.detail.contains("not a table"), "{e}");
+    }
+
+    #[test]
+    fn the_last_override_of_a_key_is_blamed() {
+        let sets: Vec<Override> = ["tools.r=1", "tools=2", "tools.r=3"]
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        assert_eq!(blame(&sets, "x.toml", &["tools.r"]), "--set tools.r=3");
+        assert_eq!(blame(&sets, "x.toml", &["tools.rp"]), "--set tools=2");
+        assert_eq!(blame(&sets, "x.toml", &["fabric.a"]), "x.toml");
+        assert_eq!(
+            blame(&sets[..1], "x.toml", &["tools.side", "tools.r"]),
+            "--set tools.r=1"
+        );
+        assert_eq!(blame(&sets, "x.toml", &["tool"]), "x.toml");
+    }
+
+    #[test]
+    fn an_override_touches_its_key_the_tables_around_it_and_what_is_inside() {
+        for (set, key) in [
+            ("fabric.l0", "fabric.l0"),
+            ("fabric", "fabric.l0"),
+            ("fabric.l0", "fabric.l0[1]"),
+            ("nosuch.key", "nosuch"),
+            ("tools.r.x", "tools.r"),
+        ] {
+            assert!(touches(set, key), "{set} → {key}");
+        }
+        for (set, key) in [
+            ("fabric.l0", "fabric.l"),
+            ("fabric.l", "fabric.l0"),
+            ("tools.r", "tools.rp"),
+            ("tools.rp", "tools.r"),
+            ("fabric.l0[1]", "fabric.l0"),
+        ] {
+            assert!(!touches(set, key), "{set} → {key}");
+        }
+    }
+
+    #[test]
+    fn unknown_keys_are_named() {
+        let e = parse("[fabric]\nfoo = 1\n", &[]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("fabric.foo"), "{e}");
+        assert!(
+            e.to_string().starts_with("x.toml: fabric.foo: unknown key"),
+            "{e}"
+        );
+        let e = parse("[tooling]\nr = 1\n", &[]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("tooling"), "{e}");
+        let e = parse("", &["fabric.bar=2"]).unwrap_err();
+        assert_eq!(e.origin, "--set fabric.bar=2");
+        assert!(e.detail.contains("fabric.bar"), "{e}");
+        // An unknown section that only a --set brings in is blamed on it, not on the file.
+        let e = parse("[fabric]\na = 0.05\n", &["nosuch.key=1"]).unwrap_err();
+        assert_eq!(e.origin, "--set nosuch.key=1");
+        assert_eq!(e.key.as_deref(), Some("nosuch"), "{e}");
+    }
+
+    #[test]
+    fn wrong_types_are_named() {
+        let e = parse("[fabric]\nundulation = 3\n", &[]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("fabric.undulation"), "{e}");
+        assert!(e.detail.contains("= 3"), "{e}");
+        // A wrong element of an array given with --set: the --set is blamed.
+        let e = parse("", &["fabric.l0=[1,\"x\"]"]).unwrap_err();
+        assert_eq!(e.origin, "--set fabric.l0=[1,\"x\"]", "{e}");
+        assert_eq!(e.key.as_deref(), Some("fabric.l0[1]"), "{e}");
+    }
+}

@@ -1,0 +1,367 @@
+//! The serde types of the scene's tables, and their defaults (the paper's glass fabric and
+//! open square box). Bounds are checked in `validate.rs`, the keys of each punch in `keys.rs`.
+
+use std::fmt;
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use crate::core::drawing::{DrawingProblem, Tooling};
+use crate::core::law::CellParams;
+
+/// A number for each yarn, `[warp, weft]`. In TOML either a 2-array or one number for both.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PerYarn(pub [f64; 2]);
+
+impl Serialize for PerYarn {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for PerYarn {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(PairVisitor {
+            expecting: "a number, or a [warp, weft] pair of numbers",
+            pair: "a [warp, weft] pair",
+        })
+        .map(PerYarn)
+    }
+}
+
+/// Reads one number (used for both) or a pair of numbers.
+struct PairVisitor {
+    expecting: &'static str,
+    pair: &'static str,
+}
+
+impl<'de> serde::de::Visitor<'de> for PairVisitor {
+    type Value = [f64; 2];
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(self.expecting)
+    }
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<[f64; 2], E> {
+        Ok([v, v])
+    }
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<[f64; 2], E> {
+        Ok([v as f64; 2])
+    }
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<[f64; 2], E> {
+        Ok([v as f64; 2])
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<[f64; 2], A::Error> {
+        let pair = self.pair;
+        let len_err = |n| serde::de::Error::invalid_length(n, &pair);
+        let a: f64 = seq.next_element()?.ok_or_else(|| len_err(0))?;
+        let b: f64 = seq.next_element()?.ok_or_else(|| len_err(1))?;
+        if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+            return Err(len_err(3));
+        }
+        Ok([a, b])
+    }
+}
+
+/// Plan dimensions `[x, y]`, mm. In TOML either a 2-array or one number for both (a square).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanPair(pub [f64; 2]);
+
+impl Serialize for PlanPair {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for PlanPair {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(PairVisitor {
+            expecting: "a number (a square), or an [x, y] pair of numbers",
+            pair: "an [x, y] pair",
+        })
+        .map(PlanPair)
+    }
+}
+
+impl fmt::Display for PlanPair {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "[{}, {}]", self.0[0], self.0[1])
+    }
+}
+
+impl fmt::Display for PerYarn {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "[{}, {}]", self.0[0], self.0[1])
+    }
+}
+
+/// The `[fabric]` table: the woven cell of eqs 1–7 and the fabric's limits.
+/// Defaults are the paper's plain-weave glass fabric (eqs 6–7).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Fabric {
+    /// `L0α`: cell length (wavelength) along [warp, weft], mm.
+    pub l0: PerYarn,
+    /// `e0α`: initial crown height of each yarn, mm.
+    pub e0: PerYarn,
+    /// `Cα`: tensile stiffness of each yarn, N.
+    pub c: PerYarn,
+    /// `A`: saturation of the closure, mm.
+    pub a: f64,
+    /// `B`: transverse compliance rate, 1/N.
+    pub b: f64,
+    /// The woven (undulation) law, or the linear yarn law `T = C max(ε, 0)` when false.
+    pub undulation: bool,
+    /// Shear locking angle, degrees: the design limit on the change of angle between the yarns.
+    pub locking_angle_deg: f64,
+    /// Yarn breaking tension, N. An assumption: the paper gives no value for its glass fabric;
+    /// 1500 N is a round figure for a glass roving of that stiffness.
+    pub break_tension_n: f64,
+    /// Initial angle between warp and weft, degrees.
+    pub yarn_angle_deg: f64,
+}
+
+impl Default for Fabric {
+    fn default() -> Self {
+        let p = CellParams::PAPER_GLASS;
+        Fabric {
+            l0: PerYarn(p.l0),
+            e0: PerYarn(p.e0),
+            c: PerYarn(p.c),
+            a: p.a,
+            b: p.b,
+            undulation: p.undulation,
+            locking_angle_deg: 60.0,
+            break_tension_n: 1500.0,
+            yarn_angle_deg: 90.0,
+        }
+    }
+}
+
+/// The tool radii `[r, rp, rm]` (mm) of the default scene: the paper's open box.
+pub const DEFAULT_BOX_RADII: [f64; 3] = [10.0, 15.0, 10.0];
+
+/// The drawing the scene defaults come from: `DrawingProblem::paper_box(10, 15, 10)`.
+pub(super) fn default_problem() -> DrawingProblem {
+    let [r, rp, rm] = DEFAULT_BOX_RADII;
+    DrawingProblem::paper_box(r, rp, rm)
+}
+
+/// The punch shape (`tools.kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ToolKind {
+    /// A flat-nosed rectangular punch with rounded corners and nose (the paper's box).
+    #[default]
+    Box,
+    /// A half-ellipsoid punch.
+    Ellipsoid,
+    /// A hemispherical punch.
+    Hemisphere,
+}
+
+impl ToolKind {
+    /// The name written in the scene file.
+    pub fn name(self) -> &'static str {
+        match self {
+            ToolKind::Box => "box",
+            ToolKind::Ellipsoid => "ellipsoid",
+            ToolKind::Hemisphere => "hemisphere",
+        }
+    }
+}
+
+/// The `[tools]` table: the punch and the die. Defaults: the paper's box with r = 10, rp = 15,
+/// rm = 10 mm (side and clearance are not in the paper: see `DrawingProblem::paper_box`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Tools {
+    /// `"box"`, `"ellipsoid"` or `"hemisphere"`.
+    pub kind: ToolKind,
+    /// Box: punch sides `[x, y]`, mm (one number: a square).
+    pub side: PlanPair,
+    /// Box: plan corner radius of the punch, mm.
+    pub r: f64,
+    /// Box: nose radius of the punch, mm.
+    pub rp: f64,
+    /// Die entry radius, mm.
+    pub rm: f64,
+    /// Gap between the punch and the die opening in plan, mm.
+    pub clearance: f64,
+    /// Ellipsoid: semi-axes `[ax, ay, az]`, mm (`az` is the punch's depth).
+    pub axes: [f64; 3],
+    /// Hemisphere: radius, mm.
+    pub radius: f64,
+}
+
+impl Default for Tools {
+    fn default() -> Self {
+        let Tooling::Box {
+            side,
+            r,
+            rp,
+            rm,
+            clearance,
+        } = default_problem().tooling
+        else {
+            unreachable!("the paper's box is a box")
+        };
+        Tools {
+            kind: ToolKind::Box,
+            side: PlanPair(side),
+            r,
+            rp,
+            rm,
+            clearance,
+            axes: [40.0, 25.0, 20.0],
+            radius: 30.0,
+        }
+    }
+}
+
+impl Tools {
+    /// The punch and die pair for the solver.
+    pub fn tooling(&self) -> Tooling {
+        match self.kind {
+            ToolKind::Box => Tooling::Box {
+                side: self.side.0,
+                r: self.r,
+                rp: self.rp,
+                rm: self.rm,
+                clearance: self.clearance,
+            },
+            ToolKind::Ellipsoid => Tooling::Ellipsoid {
+                axes: self.axes,
+                rm: self.rm,
+                clearance: self.clearance,
+            },
+            ToolKind::Hemisphere => Tooling::Hemisphere {
+                radius: self.radius,
+                rm: self.rm,
+                clearance: self.clearance,
+            },
+        }
+    }
+
+    /// The punch's depth below its widest section, mm (`None` for the box, which is extruded).
+    pub fn punch_depth(&self) -> Option<f64> {
+        match self.kind {
+            ToolKind::Box => None,
+            ToolKind::Ellipsoid => Some(self.axes[2]),
+            ToolKind::Hemisphere => Some(self.radius),
+        }
+    }
+}
+
+/// The `[process]` table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Process {
+    /// Coulomb friction coefficient between the fabric and every tool.
+    pub friction: f64,
+    /// Blank-holder pressure, MPa (0: no holder).
+    pub holder_pressure: f64,
+    /// Punch travel from touching the blank, mm.
+    pub stroke: f64,
+}
+
+impl Default for Process {
+    fn default() -> Self {
+        let p = default_problem();
+        Process {
+            friction: p.friction,
+            holder_pressure: p.holder_pressure,
+            stroke: p.stroke,
+        }
+    }
+}
+
+/// `mesh.symmetry`: how much of the blank is solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SymmetryChoice {
+    /// A quarter when the yarns lie along x and y (every tool here is symmetric about both).
+    #[default]
+    Auto,
+    /// The whole blank.
+    Full,
+    /// A quarter (x ≥ 0, y ≥ 0), mirrored for pictures.
+    Quarter,
+}
+
+impl SymmetryChoice {
+    pub fn name(self) -> &'static str {
+        match self {
+            SymmetryChoice::Auto => "auto",
+            SymmetryChoice::Full => "full",
+            SymmetryChoice::Quarter => "quarter",
+        }
+    }
+}
+
+/// The `[mesh]` table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MeshSettings {
+    /// Target element size, mm.
+    pub element_size: f64,
+    pub symmetry: SymmetryChoice,
+}
+
+impl Default for MeshSettings {
+    fn default() -> Self {
+        MeshSettings {
+            element_size: default_problem().element_size,
+            symmetry: SymmetryChoice::Auto,
+        }
+    }
+}
+
+/// The `[blank]` table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Blank {
+    /// Blank sides `[x, y]` (the warp along x), mm, centred on the punch.
+    pub size: PlanPair,
+}
+
+impl Default for Blank {
+    fn default() -> Self {
+        Blank {
+            size: PlanPair(default_problem().blank),
+        }
+    }
+}
+
+/// The `[numerics]` table: knobs of the solver that a user may need to turn.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Numerics {
+    /// Pseudo-transient damping κ of the Newton corrections on the slack fabric
+    /// (dimensionless; 0 turns it off). It damps corrections only, not the answer.
+    pub stabilisation: f64,
+    /// Contact penalty, as a multiple of the cells' tensile stiffness.
+    pub penalty_factor: f64,
+}
+
+impl Default for Numerics {
+    fn default() -> Self {
+        let p = default_problem();
+        Numerics {
+            stabilisation: p.solver.stabilisation,
+            penalty_factor: p.penalty_factor,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::parse;
+
+    #[test]
+    fn per_yarn_accepts_one_number_or_a_pair_and_integers() {
+        let s = parse("[fabric]\nl0 = 5\ne0 = [0.2, 0.3]\nc = 30000\n", &[]).unwrap();
+        assert_eq!(s.fabric.l0.0, [5.0, 5.0]);
+        assert_eq!(s.fabric.e0.0, [0.2, 0.3]);
+        assert_eq!(s.fabric.c.0, [30000.0, 30000.0]);
+        let e = parse("[fabric]\nl0 = [1.0, 2.0, 3.0]\n", &[]).unwrap_err();
+        assert!(e.detail.starts_with("fabric.l0"), "{e}");
+    }
+}
