@@ -6,6 +6,7 @@ pub mod converge;
 pub mod core;
 pub mod fit;
 pub mod machine;
+pub mod presets;
 pub mod report;
 pub mod scene;
 pub mod sweep;
