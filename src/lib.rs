@@ -3,6 +3,7 @@
 pub mod accuracy;
 pub mod core;
 pub mod machine;
+pub mod presets;
 pub mod publish;
 pub mod report;
 pub mod scene;

@@ -7,7 +7,8 @@ use std::path::PathBuf;
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use tui_common::*;
-use wovenform::tui::app::{Command, Focus, Mode, RunState};
+use wovenform::tui::app::{App, Command, Focus, Mode, RunState};
+use wovenform::tui::params::{Parameters, default_source};
 use wovenform::tui::worker::Message;
 
 #[test]
@@ -202,7 +203,43 @@ fn invalid_and_failed_designs_show_their_reason() {
         &mut app,
         &[KeyCode::Down, KeyCode::Down, KeyCode::Down, KeyCode::Enter],
     );
-    let s = screen(&mut app, 80, 24);
+    let s = screen(&app, 80, 24);
     assert!(s.contains("! failed"), "{s}");
     assert!(s.contains("could not converge"), "{s}");
+}
+
+#[test]
+fn a_field_is_read_when_its_design_is_selected_and_drawing_reads_no_file() {
+    let session = tempfile::tempdir().expect("a temporary folder");
+    let params = Parameters::new(default_source()).expect("the default grid is valid");
+    let mut app = App::new(params, session.path().to_path_buf(), false);
+    app.on_key(key(KeyCode::Char('r')));
+    app.on_message(Message::Started { to_run: 8, kept: 0 });
+    let run = app.run_dir.clone().expect("a run folder");
+    std::fs::create_dir_all(run.join("fields")).expect("the fields folder");
+    let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
+    let ids: Vec<String> = app.entries.iter().map(|e| e.design.id.clone()).collect();
+    for i in [0, 7] {
+        let field = corner_field(&ids[i], FIGURES[i].0, locking);
+        let text = serde_json::to_string(&field).expect("a field is plain data");
+        std::fs::write(run.join("fields").join(format!("{}.json", ids[i])), text)
+            .expect("the field written");
+    }
+    // Design 7 finishes while design 0 is selected: its field waits until it is selected.
+    let r = row(&app, 7, FIGURES[7]);
+    app.on_message(Message::Row(Box::new(r)));
+    assert!(!app.fields.contains_key(&ids[7]));
+    // The selected design finishes: its field is read then.
+    let r = row(&app, 0, FIGURES[0]);
+    app.on_message(Message::Row(Box::new(r)));
+    assert!(matches!(app.fields.get(&ids[0]), Some(Ok(_))));
+    // Selecting design 7 reads its field.
+    app.on_key(key(KeyCode::End));
+    assert!(matches!(app.fields.get(&ids[7]), Some(Ok(_))));
+    // With the files gone, the detail still draws the map: drawing reads only the state.
+    std::fs::remove_dir_all(run.join("fields")).expect("the fields removed");
+    let s = screen(&app, 160, 48);
+    assert!(s.contains("design 7 · r 10, rp 15, rm 10 mm"), "{s}");
+    assert!(s.contains("shear, max 58.9° at (30, 30) mm"), "{s}");
+    assert!(!s.contains("no map"), "{s}");
 }

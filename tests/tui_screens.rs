@@ -32,8 +32,8 @@ fn find(screen: &ratatui::buffer::Buffer, text: &str) -> Option<(u16, u16)> {
 
 #[test]
 fn empty() {
-    let mut app = explorer(false);
-    let s = screen(&mut app, 80, 24);
+    let app = explorer(false);
+    let s = screen(&app, 80, 24);
     assert!(s.contains("8 designs"), "{s}");
     assert!(s.contains("ready: r runs 8 designs"), "{s}");
     for label in [
@@ -54,7 +54,7 @@ fn running_with_partial_results() {
     assert_eq!(app.run, RunState::Running);
     // 3 done in 12 s: 4 s a design, 5 to go: 20 s.
     assert_eq!(app.eta_s(), Some(20.0));
-    let s = screen(&mut app, 80, 24);
+    let s = screen(&app, 80, 24);
     assert!(s.contains("3/8 designs, 12 s elapsed, ETA 20 s"), "{s}");
     assert!(s.contains("running: 3/8 done, 1 feasible"), "{s}");
     snapshot("tui_running_80x24", &s);
@@ -64,7 +64,7 @@ fn running_with_partial_results() {
 fn finished_with_verdicts_coloured_against_the_limits() {
     let mut app = explorer(true);
     finished_run(&mut app);
-    let s = screen(&mut app, 80, 24);
+    let s = screen(&app, 80, 24);
     // The paper: the tight design (5/6/5) over the locking angle, the open one (10/15/10)
     // under it; 58.9° < 60° is the only feasible design here.
     let line_of = |index: usize| {
@@ -76,7 +76,7 @@ fn finished_with_verdicts_coloured_against_the_limits() {
     assert!(line_of(0).contains("78.0") && line_of(0).contains("✗ shear"));
     assert!(line_of(7).contains("58.9") && line_of(7).contains("✓ feasible"));
     assert!(s.contains("finished: 8/8 in 24 s, 1 feasible"), "{s}");
-    let b = buffer(&mut app, 80, 24);
+    let b = buffer(&app, 80, 24);
     // (Design 0 is selected, so its line has the selection's colours.)
     let (x, y) = find(&b, "73.8").expect("design 4's shear");
     assert_eq!(b[(x, y)].fg, Color::Red, "over the locking angle: red");
@@ -96,7 +96,7 @@ fn detail_of_an_infeasible_design_shows_the_corners_over_the_limit() {
     // Design 0 is the paper's tight design; it is selected first (sorted by number).
     press(&mut app, &[KeyCode::Enter]);
     assert_eq!(app.mode, Mode::Detail);
-    let s = screen(&mut app, 80, 24);
+    let s = screen(&app, 80, 24);
     assert!(s.contains("design 0 · r 5, rp 6, rm 5 mm"), "{s}");
     assert!(s.contains("✗ shear"), "{s}");
     assert!(s.contains("max shear 78.0°"), "{s}");
@@ -144,7 +144,7 @@ fn an_invalid_edit_shows_an_inline_message_and_is_never_run() {
         press(&mut app, &[KeyCode::Backspace]);
     }
     type_text(&mut app, "-2, 5");
-    let s = screen(&mut app, 80, 24);
+    let s = screen(&app, 80, 24);
     assert!(s.contains("-2, 5▏ mm ✗"), "{s}");
     assert!(s.contains("tools.r = -2"), "{s}");
     snapshot("tui_edit_error_80x24", &s);
@@ -161,7 +161,7 @@ fn large_terminal_shows_the_detail_beside_the_table() {
     let mut app = explorer(false);
     finished_run(&mut app);
     press(&mut app, &[KeyCode::End]);
-    let s = screen(&mut app, 160, 48);
+    let s = screen(&app, 160, 48);
     assert!(s.contains("Detail"), "{s}");
     assert!(s.contains("design 7 · r 10, rp 15, rm 10 mm"), "{s}");
     assert!(s.contains("60° locking"), "{s}");
@@ -172,7 +172,7 @@ fn large_terminal_shows_the_detail_beside_the_table() {
 fn help() {
     let mut app = explorer(false);
     press(&mut app, &[KeyCode::Char('?')]);
-    let s = screen(&mut app, 80, 24);
+    let s = screen(&app, 80, 24);
     assert!(s.contains("Help"), "{s}");
     assert!(
         s.contains("cancel: workers stop, finished rows stay"),

@@ -1,4 +1,4 @@
-//! The text and JSON of `wovenform bench`: what [`crate::bench`] measured, with units.
+//! The text and JSON of `wovenform bench`: what [`crate::study::bench`] measured, with units.
 
 use std::fmt::Write as _;
 

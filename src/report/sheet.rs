@@ -28,7 +28,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::maps::{OVER_LIMIT, colour_of};
 use super::mirror::PlanQuad;
 use super::plot::{LineChart, register_fonts, tick_label};
-pub use crate::verdict::Verdict;
+use crate::verdict::Verdict;
 
 impl Verdict {
     /// The colour of the verdict on the sheet (Okabe–Ito green and vermilion, greys).

@@ -3,8 +3,10 @@
 use std::hint::black_box;
 use std::time::Instant;
 
+use crate::accuracy::Accuracy;
 use crate::core::element::{self, ElementGeometry, ElementOutput, GAUSS};
 use crate::core::law::{CellLaw, CellParams};
+use crate::presets::{PAPER_BOX_OPEN, PAPER_BOX_TIGHT, explorer_sweep};
 
 /// One measured rate.
 #[derive(Clone, Debug)]
@@ -111,19 +113,14 @@ fn preset(text: &str, name: &str, overrides: &[&str]) -> crate::core::drawing::D
 
 /// The paper's open box (the preset) at an element size, as a problem on one thread.
 pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
-    let mut p = preset(
-        include_str!("../../presets/paper-box-open.toml"),
-        "presets/paper-box-open.toml",
-        &[],
-    );
+    let mut p = preset(PAPER_BOX_OPEN, "presets/paper-box-open.toml", &[]);
     p.element_size = element_size_mm;
     p
 }
 
 /// The drawings the benchmark times, each at `standard` (2.5 mm elements), on one thread.
 pub fn cases() -> Vec<(&'static str, crate::core::drawing::DrawingProblem)> {
-    let open = include_str!("../../presets/paper-box-open.toml");
-    let tight = include_str!("../../presets/paper-box-tight.toml");
+    let (open, tight) = (PAPER_BOX_OPEN, PAPER_BOX_TIGHT);
     vec![
         ("open box", preset(open, "presets/paper-box-open.toml", &[])),
         (
@@ -306,13 +303,11 @@ pub fn dof_scaling(sizes_mm: &[f64]) -> (Vec<(usize, f64)>, f64) {
     (points, sxy / sxx)
 }
 
-/// Designs per minute of the explorer's default grid (the paper's tight and open radii,
-/// 8 designs) at `coarse` accuracy with `jobs` workers, written into a temporary folder.
+/// Designs per minute of the explorer's default grid (`presets/paper-box-explorer.toml`: the
+/// paper's tight and open radii, 8 designs) at `coarse` accuracy with `jobs` workers, written
+/// into a temporary folder.
 pub fn sweep_throughput(jobs: usize) -> Result<f64, String> {
-    use crate::tui::params::{Parameters, default_source};
-    let mut params = Parameters::new(default_source())?;
-    params.step_accuracy(false);
-    let plan = params.plan.clone();
+    let plan = explorer_sweep(&Accuracy::Coarse.overrides()).map_err(|e| e.to_string())?;
     let dir = std::env::temp_dir().join(format!(
         "wovenform-bench-{}-{jobs}-{}",
         std::process::id(),

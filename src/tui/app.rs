@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use crate::report::sheet::Verdict;
+use crate::verdict::Verdict;
 use crate::study::sweep::{Design, Plan, Row, StoredField};
 
 use super::params::{Parameters, Target};
@@ -120,7 +120,7 @@ pub struct App {
     pub runs: usize,
     /// The folder of the table's rows.
     pub run_dir: Option<PathBuf>,
-    /// Shear fields of finished designs, read from the run folder when first shown.
+    /// Shear fields of finished designs, read from the run folder when first selected.
     pub fields: HashMap<String, Result<StoredField, String>>,
     /// False where the terminal has no colours: symbols and shades instead.
     pub colour: bool,
@@ -261,21 +261,35 @@ impl App {
             .map(|&i| &self.entries[i])
     }
 
-    /// The selected design's shear field (read from the run folder the first time).
-    pub fn selected_field(&mut self) -> Option<&Result<StoredField, String>> {
-        let id = self
-            .selected_entry()
+    /// The selected design's shear field, as read when it was selected (drawing reads no
+    /// files); `None` while the design has no map.
+    pub fn selected_field(&self) -> Option<&Result<StoredField, String>> {
+        let id = self.selected_map_id()?;
+        self.fields.get(id)
+    }
+
+    /// The design id of the selected entry, when its row has a map.
+    fn selected_map_id(&self) -> Option<&str> {
+        self.selected_entry()
             .and_then(|e| e.row.as_ref())
             .filter(|r| r.map.is_some())
-            .map(|r| r.design.clone())?;
+            .map(|r| r.design.as_str())
+    }
+
+    /// Reads the selected design's shear field from the run folder, unless it was read
+    /// before: after every key and report, so that the selection, a design finishing and the
+    /// detail opening find it there.
+    fn load_selected_field(&mut self) {
+        let Some(id) = self.selected_map_id().map(str::to_string) else {
+            return;
+        };
         if !self.fields.contains_key(&id) {
             let read = match &self.run_dir {
                 Some(dir) => StoredField::read(dir, &id).map_err(|e| e.to_string()),
                 None => Err("no run folder".into()),
             };
-            self.fields.insert(id.clone(), read);
+            self.fields.insert(id, read);
         }
-        self.fields.get(&id)
     }
 
     /// Counts over the table: (with a row, feasible).
@@ -302,6 +316,11 @@ impl App {
 
     /// A report from the workers.
     pub fn on_message(&mut self, m: Message) {
+        self.apply_message(m);
+        self.load_selected_field();
+    }
+
+    fn apply_message(&mut self, m: Message) {
         match m {
             Message::Started { to_run, kept } => {
                 self.to_run = to_run;
@@ -420,6 +439,12 @@ impl App {
 
     /// What a key does.
     pub fn on_key(&mut self, key: KeyEvent) -> Command {
+        let command = self.apply_key(key);
+        self.load_selected_field();
+        command
+    }
+
+    fn apply_key(&mut self, key: KeyEvent) -> Command {
         if key.modifiers.contains(KeyModifiers::CONTROL) && key.code == KeyCode::Char('c') {
             return Command::Quit;
         }

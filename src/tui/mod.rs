@@ -2,10 +2,12 @@
 //! threads (the headless sweep engine), watch the results table fill, inspect a design's shear
 //! map, export the report.
 //!
-//! `app` holds the state and the keys, `view` draws it, `worker` runs sweeps and exports off
-//! the interface thread, `params` checks and turns the edited parameters into a plan.
+//! `app` holds the state and the keys, `view` draws it (the explorer is a widget, `&App`;
+//! `detail` draws a design's detail), `worker` runs sweeps and exports off the interface
+//! thread, `params` checks and turns the edited parameters into a plan.
 
 pub mod app;
+mod detail;
 pub mod params;
 pub mod shear_map;
 pub mod view;
@@ -107,7 +109,7 @@ fn event_loop(
             app.on_message(m);
         }
         terminal
-            .draw(|f| view::draw(f, app))
+            .draw(|f| f.render_widget(&*app, f.area()))
             .map_err(|e| format!("cannot draw on the terminal: {e}"))?;
         if !event::poll(Duration::from_millis(100)).map_err(|e| e.to_string())? {
             continue;

@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use crate::accuracy::Accuracy;
+use crate::presets;
 use crate::scene::{Override, Scene};
 use crate::study::sweep::{Plan, show_value, unit_of};
 
@@ -21,26 +22,14 @@ pub struct Source {
     pub doc: toml::Table,
 }
 
-/// The embedded default: the paper's square box (the open-box preset as the base scene) with
-/// the paper's tight and open radii, friction 0.2, holder pressure 1 MPa: 8 designs.
+/// The embedded default, `presets/paper-box-explorer.toml`: the paper's square box (the
+/// open-box preset as the base scene) with the paper's tight and open radii, friction 0.2,
+/// holder pressure 1 MPa: 8 designs.
 pub fn default_source() -> Source {
-    let base: toml::Table = include_str!("../../presets/paper-box-open.toml")
-        .parse()
-        .expect("the embedded preset is valid TOML");
-    let mut sweep = toml::Table::new();
-    let list = |v: &[f64]| toml::Value::Array(v.iter().map(|x| toml::Value::Float(*x)).collect());
-    sweep.insert("r".into(), list(&[5.0, 10.0]));
-    sweep.insert("rp".into(), list(&[6.0, 15.0]));
-    sweep.insert("rm".into(), list(&[5.0, 10.0]));
-    sweep.insert("friction".into(), list(&[0.2]));
-    sweep.insert("holder_pressure".into(), list(&[1.0]));
-    let mut doc = toml::Table::new();
-    doc.insert("scene".into(), toml::Value::Table(base));
-    doc.insert("sweep".into(), toml::Value::Table(sweep));
     Source {
-        path: PathBuf::from("paper-box-explorer"),
+        path: PathBuf::from(presets::EXPLORER_NAME),
         title: "paper box (default)".into(),
-        doc,
+        doc: presets::explorer_document(),
     }
 }
 

@@ -1,23 +1,25 @@
-//! Drawing the explorer: the parameters, the run, the results table, the detail of a design,
-//! the progress gauge and the keys; a help window over it on `?`.
+//! Drawing the explorer: the parameters, the run, the results table, the detail of a design
+//! (`detail`), the progress gauge and the keys; a help window over it on `?`. The explorer is
+//! a widget, `impl Widget for &App`: drawing reads the state and nothing else (no files).
 //!
 //! 80 × 24 and up. From 130 columns the detail pane sits beside the table; below that, Enter
 //! opens it over the whole screen.
 
-use ratatui::Frame;
+use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{
-    Block, Cell, Clear, Gauge, Paragraph, Row as TableRow, Table, TableState, Wrap,
+    Block, Cell, Clear, Gauge, Paragraph, Row as TableRow, StatefulWidget, Table, TableState,
+    Widget, Wrap,
 };
 
-use crate::report::sheet::Verdict;
-use crate::study::sweep::{Row, StoredField, show_value};
+use crate::verdict::Verdict;
+use crate::study::sweep::{Row, show_value};
 
 use super::app::{App, Entry, Focus, Mode, RunState};
+use super::detail::render_detail;
 use super::params::Target;
-use super::shear_map::{ShearMap, colour};
 
 /// Width from which the detail pane is shown beside the table.
 pub const WIDE: u16 = 130;
@@ -34,8 +36,8 @@ pub fn show_duration(s: f64) -> String {
     }
 }
 
-struct Styles {
-    colour: bool,
+pub(super) struct Styles {
+    pub(super) colour: bool,
 }
 
 impl Styles {
@@ -46,23 +48,23 @@ impl Styles {
             Style::default()
         }
     }
-    fn good(&self) -> Style {
+    pub(super) fn good(&self) -> Style {
         self.fg(Color::Green)
     }
-    fn bad(&self) -> Style {
+    pub(super) fn bad(&self) -> Style {
         self.fg(Color::Red).add_modifier(Modifier::BOLD)
     }
-    fn warn(&self) -> Style {
+    pub(super) fn warn(&self) -> Style {
         self.fg(Color::Yellow)
     }
-    fn dim(&self) -> Style {
+    pub(super) fn dim(&self) -> Style {
         if self.colour {
             Style::default().fg(Color::DarkGray)
         } else {
             Style::default()
         }
     }
-    fn title(&self) -> Style {
+    pub(super) fn title(&self) -> Style {
         Style::default().add_modifier(Modifier::BOLD)
     }
     fn selected(&self) -> Style {
@@ -75,7 +77,7 @@ impl Styles {
 }
 
 /// The verdict in a word, its symbol and its style.
-fn verdict_cell(row: Option<&Row>, app: &App, st: &Styles) -> (String, Style) {
+pub(super) fn verdict_cell(row: Option<&Row>, app: &App, st: &Styles) -> (String, Style) {
     let Some(r) = row else {
         return (if app.running() { "…" } else { "·" }.into(), st.dim());
     };
@@ -95,47 +97,51 @@ fn fixed(v: Option<f64>, decimals: usize) -> String {
     v.map(|v| format!("{v:.decimals$}")).unwrap_or_default()
 }
 
-/// Draws the whole explorer.
-pub fn draw(frame: &mut Frame, app: &mut App) {
-    let st = Styles { colour: app.colour };
-    let area = frame.area();
-    let [title, main, gauge, keys] = Layout::vertical([
-        Constraint::Length(1),
-        Constraint::Min(8),
-        Constraint::Length(1),
-        Constraint::Length(1),
-    ])
-    .areas(area);
-    draw_title(frame, app, title, &st);
-    if app.mode == Mode::Detail {
-        draw_detail(frame, app, main, &st);
-    } else {
-        let top_height = (app.params.fields.len() as u16 + 2).min(main.height.saturating_sub(5));
-        let [top, bottom] =
-            Layout::vertical([Constraint::Length(top_height), Constraint::Min(3)]).areas(main);
-        let [params, run] =
-            Layout::horizontal([Constraint::Percentage(55), Constraint::Percentage(45)]).areas(top);
-        draw_parameters(frame, app, params, &st);
-        draw_run(frame, app, run, &st);
-        if area.width >= WIDE {
-            let [table, detail] =
-                Layout::horizontal([Constraint::Length(84), Constraint::Min(40)]).areas(bottom);
-            draw_table(frame, app, table, &st);
-            draw_detail(frame, app, detail, &st);
+/// The whole explorer: `frame.render_widget(&app, frame.area())`.
+impl Widget for &App {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        let app = self;
+        let st = Styles { colour: app.colour };
+        let [title, main, gauge, keys] = Layout::vertical([
+            Constraint::Length(1),
+            Constraint::Min(8),
+            Constraint::Length(1),
+            Constraint::Length(1),
+        ])
+        .areas(area);
+        render_title(app, title, buf, &st);
+        if app.mode == Mode::Detail {
+            render_detail(app, main, buf, &st);
         } else {
-            draw_table(frame, app, bottom, &st);
+            let top_height =
+                (app.params.fields.len() as u16 + 2).min(main.height.saturating_sub(5));
+            let [top, bottom] =
+                Layout::vertical([Constraint::Length(top_height), Constraint::Min(3)]).areas(main);
+            let [params, run] =
+                Layout::horizontal([Constraint::Percentage(55), Constraint::Percentage(45)])
+                    .areas(top);
+            render_parameters(app, params, buf, &st);
+            render_run(app, run, buf, &st);
+            if area.width >= WIDE {
+                let [table, detail] =
+                    Layout::horizontal([Constraint::Length(84), Constraint::Min(40)]).areas(bottom);
+                render_table(app, table, buf, &st);
+                render_detail(app, detail, buf, &st);
+            } else {
+                render_table(app, bottom, buf, &st);
+            }
         }
-    }
-    draw_gauge(frame, app, gauge, &st);
-    draw_keys(frame, app, keys, &st);
-    match &app.mode {
-        Mode::Help => draw_help(frame, area, &st),
-        Mode::Exporting { buffer } => draw_export_prompt(frame, area, buffer, &st),
-        _ => {}
+        render_gauge(app, gauge, buf, &st);
+        render_keys(app, keys, buf, &st);
+        match &app.mode {
+            Mode::Help => render_help(area, buf, &st),
+            Mode::Exporting { buffer } => render_export_prompt(area, buf, buffer, &st),
+            _ => {}
+        }
     }
 }
 
-fn draw_title(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
+fn render_title(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let p = &app.params;
     let err = p.accuracy.error();
     let text = format!(
@@ -146,10 +152,10 @@ fn draw_title(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
         err.max_shear_deg,
         show_value(&toml::Value::Float(p.locking_angle_deg)),
     );
-    frame.render_widget(Paragraph::new(Line::styled(text, st.title())), area);
+    Paragraph::new(Line::styled(text, st.title())).render(area, buf);
 }
 
-fn draw_parameters(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
+fn render_parameters(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let focused = app.focus == Focus::Parameters;
     let mut lines = Vec::new();
     for (i, f) in app.params.fields.iter().enumerate() {
@@ -193,10 +199,10 @@ fn draw_parameters(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
         Block::bordered()
             .title(title)
             .border_style(if focused { st.title() } else { st.dim() });
-    frame.render_widget(Paragraph::new(lines).block(block), area);
+    Paragraph::new(lines).block(block).render(area, buf);
 }
 
-fn draw_run(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
+fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let mut lines: Vec<Line> = Vec::new();
     let title;
     if let Mode::Editing { error, .. } = &app.mode {
@@ -273,13 +279,13 @@ fn draw_run(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
         }
     }
     let block = Block::bordered().title(title).border_style(st.dim());
-    frame.render_widget(
-        Paragraph::new(lines).wrap(Wrap { trim: true }).block(block),
-        area,
-    );
+    Paragraph::new(lines)
+        .wrap(Wrap { trim: true })
+        .block(block)
+        .render(area, buf);
 }
 
-fn draw_table(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
+fn render_table(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let visible = app.visible();
     let params = app.table_plan.columns();
     let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
@@ -382,177 +388,10 @@ fn draw_table(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
     if !visible.is_empty() {
         state.select(Some(app.selected.min(visible.len() - 1)));
     }
-    frame.render_stateful_widget(table, area, &mut state);
+    StatefulWidget::render(table, area, buf, &mut state);
 }
 
-/// The colour bar: the scale from 0 to `top`, the locking angle marked.
-fn scale_line<'a>(width: u16, locking: f64, top: f64, st: &Styles) -> Vec<Line<'a>> {
-    let w = width.max(10) as usize;
-    let mut bar = Vec::new();
-    let mark = ((locking / top) * (w - 1) as f64).round() as usize;
-    for i in 0..w {
-        let v = top * i as f64 / (w - 1) as f64;
-        if st.colour {
-            bar.push(Span::styled("█", Style::default().fg(colour(v, locking))));
-        } else {
-            bar.push(Span::raw(super::shear_map::shade(v, locking).to_string()));
-        }
-    }
-    let mut marks = vec![' '; w];
-    marks[mark.min(w - 1)] = '▲';
-    let mut labels: Vec<char> = vec![' '; w];
-    let put = |labels: &mut Vec<char>, at: usize, text: &str| {
-        let at = at.min(w.saturating_sub(text.chars().count()));
-        for (k, ch) in text.chars().enumerate() {
-            if at + k < w {
-                labels[at + k] = ch;
-            }
-        }
-    };
-    put(&mut labels, 0, "0°");
-    let lock = format!("{locking:.0}° locking");
-    put(
-        &mut labels,
-        mark.saturating_sub(lock.chars().count() / 2),
-        &lock,
-    );
-    let topl = format!("{top:.0}°");
-    if mark + lock.chars().count() / 2 + 2 + topl.len() < w {
-        put(&mut labels, w - topl.len(), &topl);
-    }
-    vec![
-        Line::from(bar),
-        Line::raw(marks.into_iter().collect::<String>()),
-        Line::raw(labels.into_iter().collect::<String>()),
-    ]
-}
-
-fn draw_detail(frame: &mut Frame, app: &mut App, area: Rect, st: &Styles) {
-    let block = Block::bordered()
-        .title(" Detail (Enter / Esc) ")
-        .border_style(st.dim());
-    let inner = block.inner(area);
-    frame.render_widget(block, area);
-    let Some(entry) = app.selected_entry().cloned() else {
-        frame.render_widget(Paragraph::new("no design selected"), inner);
-        return;
-    };
-    let plan = &app.table_plan;
-    let locking = plan.base_scene.fabric.locking_angle_deg;
-    let breaking = plan.base_scene.fabric.break_tension_n;
-    let accuracy = app.params.accuracy;
-    let err = accuracy.error();
-    let mut lines = vec![Line::styled(
-        format!(
-            "design {} · {}",
-            entry.design.index,
-            plan.label_lines(&entry.design).join(" · ")
-        ),
-        st.title(),
-    )];
-    match entry.row.as_ref() {
-        None => lines.push(Line::styled(
-            if app.running() {
-                "not finished yet"
-            } else {
-                "not run: r runs the sweep"
-            },
-            st.dim(),
-        )),
-        Some(r) => {
-            let (word, style) = verdict_cell(Some(r), app, st);
-            let mut verdict = vec![Span::styled(word, style)];
-            if let Some(f) = &r.failure {
-                verdict.push(Span::raw(format!(": {f}")));
-            }
-            lines.push(Line::from(verdict));
-            if let Some(s) = r.max_shear_deg {
-                lines.push(Line::from(vec![
-                    Span::raw("max shear "),
-                    Span::styled(
-                        format!("{s:.1}°"),
-                        if s > locking { st.bad() } else { st.good() },
-                    ),
-                    Span::raw(format!(" ±{:.1}° (locking {locking}°)", err.max_shear_deg)),
-                ]));
-            }
-            if let Some(t) = r.max_tension_n {
-                lines.push(Line::from(vec![
-                    Span::raw("max yarn tension "),
-                    Span::styled(
-                        format!("{t:.0} N"),
-                        if t > breaking { st.bad() } else { st.good() },
-                    ),
-                    Span::raw(format!(" (break {breaking} N)")),
-                ]));
-            }
-            if let Some(f) = r.punch_force_n {
-                lines.push(Line::raw(format!(
-                    "punch force {:.2} kN ±{:.1} %",
-                    f / 1000.0,
-                    err.punch_force_pct
-                )));
-            }
-            if let Some(w) = r.wall_s {
-                lines.push(Line::raw(format!(
-                    "run time {w:.1} s at {accuracy} ({} mm elements)",
-                    accuracy.element_size_mm()
-                )));
-            }
-        }
-    }
-    let text_height = lines.len() as u16;
-    let field: Option<StoredField> = match app.selected_field() {
-        Some(Ok(f)) => Some(f.clone()),
-        Some(Err(e)) => {
-            lines.push(Line::styled(format!("no map: {e}"), st.warn()));
-            None
-        }
-        None => None,
-    };
-    // Beside the figures when the pane is wide and low (the full screen of a small terminal),
-    // under them otherwise.
-    let [text_area, map_area] = if inner.width > 3 * inner.height {
-        let [map, text] = Layout::horizontal([Constraint::Percentage(55), Constraint::Min(20)])
-            .spacing(2)
-            .areas(inner);
-        [text, map]
-    } else {
-        Layout::vertical([Constraint::Length(text_height + 1), Constraint::Min(0)]).areas(inner)
-    };
-    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), text_area);
-    let Some(field) = field else { return };
-    if map_area.height < 5 {
-        return;
-    }
-    let [map, bar] = Layout::vertical([Constraint::Min(2), Constraint::Length(3)]).areas(map_area);
-    let (quads, values) = crate::report::sweep::full_blank(&field);
-    let top = values.iter().copied().fold(1.1 * locking, f64::max);
-    let max_at = field
-        .max_at
-        .map(|p| format!(" at ({:.0}, {:.0}) mm", p[0], p[1]))
-        .unwrap_or_default();
-    let caption = format!("shear, max {:.1}°{max_at}", field.max_shear_deg);
-    let [caption_area, map] =
-        Layout::vertical([Constraint::Length(1), Constraint::Min(1)]).areas(map);
-    frame.render_widget(
-        Paragraph::new(Line::styled(caption, st.dim())),
-        caption_area,
-    );
-    frame.render_widget(
-        ShearMap {
-            quads: &quads,
-            shear_deg: &values,
-            locking_angle_deg: locking,
-            scale_max: top,
-            colour: app.colour,
-        },
-        map,
-    );
-    frame.render_widget(Paragraph::new(scale_line(bar.width, locking, top, st)), bar);
-}
-
-fn draw_gauge(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
+fn render_gauge(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let total = app.to_run.max(app.done).max(1);
     let ratio = if app.running() || app.done > 0 {
         (app.done as f64 / total as f64).min(1.0)
@@ -582,10 +421,10 @@ fn draw_gauge(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
         } else {
             Style::default().add_modifier(Modifier::REVERSED)
         });
-    frame.render_widget(gauge, area);
+    gauge.render(area, buf);
 }
 
-fn draw_keys(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
+fn render_keys(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let keys = match &app.mode {
         Mode::Editing { .. } => "type · Enter keep · Esc drop",
         Mode::Exporting { .. } => "type a folder · Enter export · Esc drop",
@@ -593,10 +432,7 @@ fn draw_keys(frame: &mut Frame, app: &App, area: Rect, st: &Styles) {
         _ if app.running() => "c cancel · s sort · f feasible · Enter detail · ? help · q quit",
         _ => "r run · e export · s sort · f feasible · Tab panel · Enter · ? help · q quit",
     };
-    frame.render_widget(
-        Paragraph::new(Line::styled(format!(" {keys}"), st.dim())),
-        area,
-    );
+    Paragraph::new(Line::styled(format!(" {keys}"), st.dim())).render(area, buf);
 }
 
 /// A rectangle of `w × h` centred in `area` (clipped to it).
@@ -628,9 +464,9 @@ const HELP: &[(&str, &str)] = &[
     ("q, Ctrl-C", "quit (a running sweep is cancelled)"),
 ];
 
-fn draw_help(frame: &mut Frame, area: Rect, st: &Styles) {
+fn render_help(area: Rect, buf: &mut Buffer, st: &Styles) {
     let rect = centred(area, 76, HELP.len() as u16 + 6);
-    frame.render_widget(Clear, rect);
+    Clear.render(rect, buf);
     let mut lines: Vec<Line> = HELP
         .iter()
         .map(|(k, what)| {
@@ -649,15 +485,14 @@ fn draw_help(frame: &mut Frame, area: Rect, st: &Styles) {
         "the limit, ! failed to converge, - invalid (breaks a bound). Any key closes.",
         st.dim(),
     ));
-    frame.render_widget(
-        Paragraph::new(lines).block(Block::bordered().title(" Help ")),
-        rect,
-    );
+    Paragraph::new(lines)
+        .block(Block::bordered().title(" Help "))
+        .render(rect, buf);
 }
 
-fn draw_export_prompt(frame: &mut Frame, area: Rect, buffer: &str, st: &Styles) {
+fn render_export_prompt(area: Rect, buf: &mut Buffer, buffer: &str, st: &Styles) {
     let rect = centred(area, 70, 5);
-    frame.render_widget(Clear, rect);
+    Clear.render(rect, buf);
     let lines = vec![
         Line::raw(format!("{buffer}▏")),
         Line::styled(
@@ -665,8 +500,7 @@ fn draw_export_prompt(frame: &mut Frame, area: Rect, buffer: &str, st: &Styles) 
             st.dim(),
         ),
     ];
-    frame.render_widget(
-        Paragraph::new(lines).block(Block::bordered().title(" Export to folder (Enter) ")),
-        rect,
-    );
+    Paragraph::new(lines)
+        .block(Block::bordered().title(" Export to folder (Enter) "))
+        .render(rect, buf);
 }

@@ -11,7 +11,6 @@ use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use wovenform::study::sweep::{Row, StoredField};
 use wovenform::tui::app::App;
 use wovenform::tui::params::{Parameters, default_source};
-use wovenform::tui::view;
 use wovenform::tui::worker::Message;
 use wovenform::verdict::Verdict;
 
@@ -140,16 +139,20 @@ pub fn finished_run(app: &mut App) {
     });
 }
 
-/// The screen as text.
-pub fn screen(app: &mut App, width: u16, height: u16) -> String {
+/// The screen as text: the explorer drawn as a widget over the whole terminal.
+pub fn screen(app: &App, width: u16, height: u16) -> String {
     let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("a test terminal");
-    terminal.draw(|f| view::draw(f, app)).expect("drawn");
+    terminal
+        .draw(|f| f.render_widget(app, f.area()))
+        .expect("drawn");
     terminal.backend().to_string()
 }
 
 /// The screen's buffer, for looking at styles.
-pub fn buffer(app: &mut App, width: u16, height: u16) -> ratatui::buffer::Buffer {
+pub fn buffer(app: &App, width: u16, height: u16) -> ratatui::buffer::Buffer {
     let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("a test terminal");
-    terminal.draw(|f| view::draw(f, app)).expect("drawn");
+    terminal
+        .draw(|f| f.render_widget(app, f.area()))
+        .expect("drawn");
     terminal.backend().buffer().clone()
 }

@@ -1,9 +1,9 @@
 //! The grid of a plan: its designs (ids, values), the results' parameter columns, and each
 //! design's scene.
 
-use super::plan::{Plan, SHORT_NAMES, lookup, parse_sets};
+use super::plan::{Plan, SHORT_NAMES, parse_sets};
 use super::values::{fnv_hex, show_value, toml_literal, unit_of};
-use crate::scene::{Override, Scene, ToolKind};
+use crate::scene::{Override, Scene, SceneError, ToolKind, lookup};
 
 /// One design of the grid.
 #[derive(Clone, Debug, PartialEq)]
@@ -86,8 +86,8 @@ impl Plan {
         parse_sets(&self.set).unwrap_or_default()
     }
 
-    /// The design's scene, or why it breaks a bound (the message starts with the key).
-    pub fn design_scene(&self, design: &Design) -> Result<Scene, String> {
+    /// The design's scene, or why it breaks a bound (the detail starts with the key).
+    pub fn design_scene(&self, design: &Design) -> Result<Scene, SceneError> {
         let mut sets = self.base_overrides();
         for (axis, v) in self.axes.iter().zip(&design.values) {
             let literal = toml_literal(v);
@@ -97,7 +97,7 @@ impl Plan {
                 text: format!("{}={literal}", axis.key),
             });
         }
-        Scene::from_toml_str(&self.base_text, &self.base_origin, &sets).map_err(|e| e.detail)
+        Scene::from_toml_str(&self.base_text, &self.base_origin, &sets)
     }
 
     /// The design's row parameters, in column order.
@@ -142,5 +142,19 @@ impl Plan {
             lines.push(rest.join(", "));
         }
         lines
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::plan::tests::plan_of;
+
+    #[test]
+    fn designs_out_of_bounds_are_invalid_with_the_reason() {
+        let p = plan_of("[sweep]\nr = [5.0, 40.0]\n").unwrap();
+        let d = p.designs();
+        assert!(p.design_scene(&d[0]).is_ok());
+        let why = p.design_scene(&d[1]).unwrap_err().detail;
+        assert!(why.starts_with("tools.r = 40"), "{why}");
     }
 }

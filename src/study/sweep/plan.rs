@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::SweepError;
 use super::values::{as_number, fnv_hex, show_value};
-use crate::scene::{Override, Scene};
+use crate::scene::{Override, Scene, lookup};
 
 /// The box's five short names and the scene keys they stand for, in grid order.
 pub const SHORT_NAMES: [(&str, &str); 5] = [
@@ -47,18 +47,6 @@ pub struct Plan {
     /// FNV-1a hashes of the base scene (as run) and of the grid.
     pub base_hash: String,
     pub sweep_hash: String,
-}
-
-pub(super) fn lookup<'a>(table: &'a toml::Table, key: &str) -> Option<&'a toml::Value> {
-    let mut parts = key.split('.');
-    let mut v = table.get(parts.next()?)?;
-    for p in parts {
-        v = match v {
-            toml::Value::Table(t) => t.get(p)?,
-            _ => return None,
-        };
-    }
-    Some(v)
 }
 
 /// Deep merge: `over`'s keys replace `base`'s, tables merged key by key.
@@ -374,4 +362,71 @@ fn axis_values(
         ));
     }
     Ok(values)
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+
+    pub(in crate::study::sweep) fn plan_of(text: &str) -> Result<Plan, SweepError> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.toml");
+        std::fs::write(&path, text).unwrap();
+        Plan::load(&path, &[])
+    }
+
+
+    #[test]
+    fn lists_ranges_and_short_names_make_the_grid() {
+        let p = plan_of(
+            "[sweep]\nfriction = [0.1, 0.2]\nr = { start = 5, stop = 10, count = 3 }\ntools.clearance = 1.0\n",
+        )
+        .unwrap();
+        let keys: Vec<&str> = p.axes.iter().map(|a| a.key.as_str()).collect();
+        assert_eq!(keys, ["tools.r", "process.friction", "tools.clearance"]);
+        assert_eq!(p.axes[0].values, vec![5.0.into(), 7.5.into(), 10.0.into()]);
+        let d = p.designs();
+        assert_eq!(d.len(), 6);
+        assert_eq!(d[1].values[1], toml::Value::Float(0.2));
+        assert!(d[5].id.starts_with("d005-"), "{}", d[5].id);
+        // Stable ids: the same values give the same id.
+        assert_eq!(p.designs()[3].id, d[3].id);
+        let names: Vec<String> = p.columns().iter().map(|c| c.name.clone()).collect();
+        assert_eq!(
+            names,
+            [
+                "r",
+                "rp",
+                "rm",
+                "friction",
+                "holder_pressure",
+                "tools.clearance"
+            ]
+        );
+        let range =
+            plan_of("[sweep]\nfriction = { start = 0.1, stop = 0.3, count = 3 }\n").unwrap();
+        assert_eq!(range.axes[0].values[1], toml::Value::Float(0.2));
+    }
+
+    #[test]
+    fn unknown_keys_and_bad_values_name_the_key() {
+        for (text, must) in [
+            ("[sweep]\nradius_x = [1.0]\n", "sweep.radius_x: unknown key"),
+            ("[sweep]\ntools.q = [1.0]\n", "sweep.tools.q: unknown key"),
+            ("[sweep]\nr = []\n", "sweep.r: an empty list"),
+            (
+                "[sweep]\nr = { start = 1, stop = 2, cnt = 3 }\n",
+                "sweep.r.cnt",
+            ),
+            ("[sweep]\nr = [\"a\"]\n", "sweep.r = a: expected numbers"),
+            ("[sweep]\nr = [5.0]\ntools.r = [6.0]\n", "swept twice"),
+            ("bse = \"x.toml\"\n[sweep]\nr = [5.0]\n", "bse: unknown key"),
+            ("[scene]\n", "expected a [sweep] table"),
+        ] {
+            let e = plan_of(text).unwrap_err();
+            assert!(matches!(e, SweepError::BadInput(_)), "{text}");
+            assert!(e.to_string().contains(must), "{text}: {e}");
+            assert!(e.to_string().contains("s.toml"), "{text}: {e}");
+        }
+    }
 }

@@ -257,3 +257,35 @@ pub fn counts(rows: &[Row]) -> Counts {
     }
     c
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::plan::tests::plan_of;
+    use super::*;
+
+    #[test]
+    fn csv_rows_round_trip() {
+        let p = plan_of("[sweep]\nr = [5.0, 7.5]\n").unwrap();
+        let cols = p.columns();
+        let d = p.designs();
+        let mut row = Row::invalid(&p, &cols, &d[1], "a, \"quoted\"\nreason".into());
+        row.max_shear_deg = Some(12.3456);
+        let line = row.to_csv();
+        assert_eq!(line.matches('\n').count(), 1, "one line per row: {line}");
+        let fields = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(line.as_bytes())
+            .records()
+            .next()
+            .unwrap()
+            .unwrap();
+        let header_line = csv_header(&cols);
+        let names: Vec<&str> = header_line.split(',').collect();
+        assert_eq!(fields.len(), names.len());
+        let header: HashMap<&str, usize> = names.iter().enumerate().map(|(i, h)| (*h, i)).collect();
+        let grid: HashMap<&str, &Design> = d.iter().map(|d| (d.id.as_str(), d)).collect();
+        let back = Row::from_csv(&header, &fields, &p, &cols, &grid).unwrap();
+        row.failure = Some("a, \"quoted\" reason".into());
+        assert_eq!(back, row);
+    }
+}

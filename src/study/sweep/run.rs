@@ -243,7 +243,7 @@ pub fn run(
     for d in pending {
         match plan.design_scene(d) {
             Ok(scene) => valid.push((d, scene)),
-            Err(reason) => invalid.push(Row::invalid(plan, &columns, d, reason)),
+            Err(e) => invalid.push(Row::invalid(plan, &columns, d, e.detail)),
         }
     }
     progress(Progress::Start {

@@ -38,3 +38,18 @@ impl Shard {
         index % self.count == self.index - 1
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_split_the_grid() {
+        let s: Shard = "2/3".parse().unwrap();
+        let mine: Vec<usize> = (0..7).filter(|&i| s.contains(i)).collect();
+        assert_eq!(mine, [1, 4]);
+        assert!("0/3".parse::<Shard>().is_err());
+        assert!("4/3".parse::<Shard>().is_err());
+        assert!("x".parse::<Shard>().is_err());
+    }
+}
