@@ -9,7 +9,7 @@ use serde::Serialize;
 use super::CliError;
 use super::scene_args::SceneArgs;
 use wovenform::core::law::CellLaw;
-use wovenform::report::figure6;
+use wovenform::publish::write_figure6;
 use wovenform::study::fit::STRAIN_RANGE;
 
 #[derive(Args, Debug)]
@@ -72,7 +72,7 @@ pub fn exec(args: LawArgs) -> Result<(), CliError> {
             .out
             .as_deref()
             .expect("clap requires --out with --curves");
-        let written = figure6::write_figure6(params, out).map_err(CliError::failed)?;
+        let written = write_figure6(params, out).map_err(CliError::failed)?;
         for path in written {
             println!("{}", path.display());
         }

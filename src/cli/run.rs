@@ -10,7 +10,7 @@ use super::progress::stroke_bar;
 use super::scene_args::{SceneArgs, parse_accuracy, with_accuracy};
 use wovenform::accuracy::Accuracy;
 use wovenform::core::drawing;
-use wovenform::report::summary::write_run;
+use wovenform::publish::write_run;
 use wovenform::summary::RunSummary;
 
 #[derive(Args, Debug)]

@@ -1,8 +1,6 @@
 //! The paper's Figure 6: warp and weft tension against warp strain for biaxial strain paths
 //! of ratio `k = ε11/ε22` = 1, 2, 4 and the uniaxial path (ε22 = 0).
 
-use std::path::{Path, PathBuf};
-
 use crate::core::law::{CellLaw, CellParams};
 use crate::report::plot::{Colour, LineChart, Series};
 
@@ -125,17 +123,4 @@ pub fn figure6_chart(rows: &[Figure6Row]) -> LineChart {
         ));
     }
     chart
-}
-
-/// Writes `dir/figure6.csv` and `dir/figure6.png` (creating `dir`); returns the paths written.
-pub fn write_figure6(params: CellParams, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
-    let rows = figure6_table(params, 121);
-    let csv = dir.join("figure6.csv");
-    std::fs::write(&csv, figure6_csv(&rows))
-        .map_err(|e| format!("{}: cannot write: {e}", csv.display()))?;
-    let png = dir.join("figure6.png");
-    figure6_chart(&rows).write_png(&png)?;
-    Ok(vec![csv, png])
 }

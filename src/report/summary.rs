@@ -2,11 +2,7 @@
 //! beside it.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
 
-use super::maps::{self, MapContext};
-use super::vtu;
-use crate::core::drawing::{DrawingResult, Tooling};
 use crate::scene::ToolKind;
 pub use crate::summary::RunSummary;
 
@@ -131,42 +127,4 @@ impl RunSummary {
             }
         }
     }
-}
-
-/// Writes `shear.png`, `tension.png`, `result.vtu` and `summary.json` into `dir` (created if
-/// needed), records them in `summary.files`, and returns their paths. Errors name the file.
-pub fn write_run(
-    dir: &Path,
-    summary: &mut RunSummary,
-    result: &DrawingResult,
-    tooling: &Tooling,
-) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
-    let ctx = MapContext {
-        scene: &summary.scene,
-        verdict: &summary.verdict,
-        tooling: *tooling,
-        stroke_mm: summary.stroke_mm,
-    };
-    let shear = dir.join("shear.png");
-    maps::shear_map(result, &ctx, summary.locking_angle_deg).write_png(&shear)?;
-    let tension = dir.join("tension.png");
-    maps::tension_map(result, &ctx, summary.break_tension_n).write_png(&tension)?;
-    let vtu_path = dir.join("result.vtu");
-    vtu::write_vtu(result, &vtu_path)?;
-    let json = dir.join("summary.json");
-    let written = vec![json.clone(), shear, tension, vtu_path];
-    for (kind, path) in ["summary", "shear_map", "tension_map", "vtu"]
-        .iter()
-        .zip(&written)
-    {
-        summary
-            .files
-            .insert(kind.to_string(), path.display().to_string());
-    }
-    let text = serde_json::to_string_pretty(&*summary).expect("the summary is plain data");
-    std::fs::write(&json, text + "\n")
-        .map_err(|e| format!("{}: cannot write the summary: {e}", json.display()))?;
-    Ok(written)
 }

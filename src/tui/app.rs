@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use crate::verdict::Verdict;
 use crate::study::sweep::{Design, Plan, Row, StoredField};
+use crate::verdict::Verdict;
 
 use super::params::{Parameters, Target};
 use super::worker::Message;

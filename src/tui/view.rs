@@ -14,8 +14,8 @@ use ratatui::widgets::{
     Widget, Wrap,
 };
 
-use crate::verdict::Verdict;
 use crate::study::sweep::{Row, show_value};
+use crate::verdict::Verdict;
 
 use super::app::{App, Entry, Focus, Mode, RunState};
 use super::detail::render_detail;

@@ -375,7 +375,6 @@ pub(super) mod tests {
         Plan::load(&path, &[])
     }
 
-
     #[test]
     fn lists_ranges_and_short_names_make_the_grid() {
         let p = plan_of(
