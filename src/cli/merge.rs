@@ -24,8 +24,8 @@ pub struct MergeArgs {
 
 pub fn exec(args: MergeArgs) -> Result<(), CliError> {
     let start = std::time::Instant::now();
-    let (plan, mut outcome) = sweep::merge(&args.dirs, &args.out, args.jobs)?;
     let pool = sweep::pool(args.jobs)?;
+    let (plan, mut outcome) = sweep::merge(&args.dirs, &args.out)?;
     outcome.files = publish::sweep_report(&plan, &args.out, &outcome.rows, None, &pool)
         .map_err(CliError::failed)?;
     outcome.wall_s = start.elapsed().as_secs_f64();

@@ -5,6 +5,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::Args;
+use indicatif::ProgressBar;
 
 use super::CliError;
 use super::progress::stderr_bar;
@@ -49,13 +50,46 @@ pub fn exec(args: SweepArgs) -> Result<(), CliError> {
         ..sweep::Options::default()
     };
     let start = std::time::Instant::now();
-    let terminal = std::io::stderr().is_terminal();
     let bar = stderr_bar(
         0,
         "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} designs, {msg}, ETA {eta}",
     );
     bar.set_message("0 feasible");
-    let progress = |p: Progress| match p {
+    let progress = |p: Progress| show_progress(&bar, &args, p);
+    let outcome = sweep::run(&plan, &args.out, &options, &progress);
+    let mut outcome = outcome.inspect_err(|_| bar.finish_and_clear())?;
+    let maps = outcome.rows.iter().filter(|r| r.map.is_some()).count();
+    bar.set_message(format!("drawing {maps} maps and the report"));
+    let pool = sweep::pool(args.jobs)?;
+    let drawn = publish::sweep_report(&plan, &args.out, &outcome.rows, args.shard, &pool);
+    bar.finish_and_clear();
+    outcome.files = drawn.map_err(CliError::failed)?;
+    outcome.wall_s = start.elapsed().as_secs_f64();
+    print_outcome(&plan, &outcome);
+    let per_min = if outcome.run_wall_s > 0.0 {
+        60.0 * outcome.ran as f64 / outcome.run_wall_s
+    } else {
+        0.0
+    };
+    println!(
+        "{} designs run in {:.1} s on {} threads ({per_min:.1} designs/min){}; {:.1} s in all",
+        outcome.ran,
+        outcome.run_wall_s,
+        outcome.threads,
+        if outcome.kept.kept > 0 {
+            format!(", {} rows kept from before", outcome.kept.kept)
+        } else {
+            String::new()
+        },
+        outcome.wall_s
+    );
+    Ok(())
+}
+
+/// The progress of a sweep on the bar (on a terminal) or a line per design (in a log).
+fn show_progress(bar: &ProgressBar, args: &SweepArgs, p: Progress) {
+    let terminal = std::io::stderr().is_terminal();
+    match p {
         Progress::Start {
             to_run,
             kept,
@@ -96,35 +130,7 @@ pub fn exec(args: SweepArgs) -> Result<(), CliError> {
                 );
             }
         }
-    };
-    let outcome = sweep::run(&plan, &args.out, &options, &progress);
-    let mut outcome = outcome.inspect_err(|_| bar.finish_and_clear())?;
-    let maps = outcome.rows.iter().filter(|r| r.map.is_some()).count();
-    bar.set_message(format!("drawing {maps} maps and the report"));
-    let pool = sweep::pool(args.jobs)?;
-    let drawn = publish::sweep_report(&plan, &args.out, &outcome.rows, args.shard, &pool);
-    bar.finish_and_clear();
-    outcome.files = drawn.map_err(CliError::failed)?;
-    outcome.wall_s = start.elapsed().as_secs_f64();
-    print_outcome(&plan, &outcome);
-    let per_min = if outcome.run_wall_s > 0.0 {
-        60.0 * outcome.ran as f64 / outcome.run_wall_s
-    } else {
-        0.0
-    };
-    println!(
-        "{} designs run in {:.1} s on {} threads ({per_min:.1} designs/min){}; {:.1} s in all",
-        outcome.ran,
-        outcome.run_wall_s,
-        outcome.threads,
-        if outcome.kept.kept > 0 {
-            format!(", {} rows kept from before", outcome.kept.kept)
-        } else {
-            String::new()
-        },
-        outcome.wall_s
-    );
-    Ok(())
+    }
 }
 
 /// The feasibility table, the counts and the files written.

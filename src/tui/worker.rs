@@ -78,7 +78,7 @@ pub fn start_export(from: PathBuf, to: PathBuf, tx: Sender<Message>) {
     thread::Builder::new()
         .name("explorer-export".into())
         .spawn(move || {
-            let result = sweep::merge(&[from], &to, None)
+            let result = sweep::merge(&[from], &to)
                 .map_err(|e| e.to_string())
                 .and_then(|(plan, outcome)| {
                     let pool = sweep::pool(None).map_err(|e| e.to_string())?;

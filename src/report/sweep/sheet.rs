@@ -7,6 +7,7 @@ use super::table::{RANKED_ON_SHEET, ranked};
 use crate::report::sheet::{Sheet, Tile, TileMap};
 use crate::scene::ToolKind;
 use crate::study::sweep::{Design, Plan, Row, StoredField, counts, show_value, unit_of};
+use crate::verdict::Verdict;
 
 /// At most this many maps on the report sheet (the first ones in grid order).
 pub const SHEET_TILES: usize = 81;
@@ -19,7 +20,23 @@ pub fn sheet(
     top: f64,
     field: &dyn Fn(&Row) -> Result<StoredField, String>,
 ) -> Result<Sheet, String> {
-    let base = &plan.base_scene;
+    let (tiles, tiles_note) = tiles(plan, rows, designs, field)?;
+    let (chart, chart_note) = shear_chart(plan, rows, designs);
+    Ok(Sheet {
+        title: title(plan, rows),
+        subtitle: subtitle(plan, designs),
+        tiles,
+        tiles_note,
+        scale_max: top,
+        limit: plan.base_scene.fabric.locking_angle_deg,
+        chart,
+        chart_note,
+        ranking: ranking(plan, rows, designs),
+    })
+}
+
+/// `Sweep NAME: N designs — 3 ✓ feasible, 5 ✗ infeasible, …`.
+fn title(plan: &Plan, rows: &[Row]) -> String {
     let c = counts(rows);
     let mut tally = vec![
         format!("{} ✓ feasible", c.feasible),
@@ -35,12 +52,17 @@ pub fn sheet(
     if missing > 0 {
         tally.push(format!("{missing} not computed"));
     }
-    let title = format!(
+    format!(
         "Sweep {}: {} designs — {}",
         plan.name(),
         plan.len(),
         tally.join(", ")
-    );
+    )
+}
+
+/// The base scene, what is swept and what is fixed, and what feasible means.
+fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
+    let base = &plan.base_scene;
     let t = &base.tools;
     let tools = match t.kind {
         ToolKind::Box => format!("box punch {} × {} mm", t.side.0[0], t.side.0[1]),
@@ -73,7 +95,7 @@ pub fn sheet(
             format!("{} {}{}", col.name, show_value(&v[0].1), unit_of(&col.key))
         })
         .collect();
-    let subtitle = vec![
+    vec![
         format!(
             "Base scene: {} — {tools}, clearance {} mm, stroke {} mm, blank {} × {} mm, {law}, mesh {} mm; locking angle {}°, break tension {} N",
             plan.base_file.as_deref().unwrap_or(&plan.base_origin),
@@ -95,7 +117,18 @@ pub fn sheet(
             }
         ),
         "Feasible = converged, max shear ≤ locking angle and max yarn tension ≤ break tension. Every design's map: maps/<design>.png; every row: results.csv.".into(),
-    ];
+    ]
+}
+
+/// A tile per design (the first [`SHEET_TILES`] in grid order), and a note when not all are
+/// shown.
+fn tiles(
+    plan: &Plan,
+    rows: &[Row],
+    designs: &[Design],
+    field: &dyn Fn(&Row) -> Result<StoredField, String>,
+) -> Result<(Vec<Tile>, Option<String>), String> {
+    let missing = plan.len().saturating_sub(rows.len());
     let shown: Vec<&Row> = rows.iter().take(SHEET_TILES).collect();
     let tiles_note = if rows.len() > shown.len() || missing > 0 {
         Some(format!(
@@ -135,7 +168,11 @@ pub fn sheet(
             map,
         });
     }
-    let (chart, chart_note) = shear_chart(plan, rows, designs);
+    Ok((tiles, tiles_note))
+}
+
+/// The ranking beside the tiles: feasible first, then by max shear.
+fn ranking(plan: &Plan, rows: &[Row], designs: &[Design]) -> Vec<(Option<Verdict>, String)> {
     let ranked = ranked(rows);
     let mut ranking = vec![(
         None,
@@ -164,15 +201,5 @@ pub fn sheet(
         }
         ranking.push((Some(r.verdict), text));
     }
-    Ok(Sheet {
-        title,
-        subtitle,
-        tiles,
-        tiles_note,
-        scale_max: top,
-        limit: base.fabric.locking_angle_deg,
-        chart,
-        chart_note,
-        ranking,
-    })
+    ranking
 }

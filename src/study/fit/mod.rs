@@ -1,7 +1,7 @@
 //! Identification of the law's transverse parameters `A`, `B` (and optionally one yarn stiffness
 //! `C` for both yarns) from measured biaxial tension curves, by Levenberg–Marquardt.
 //!
-//! Data ([`samples`]): fabric strains along warp and weft and the measured tensions per yarn.
+//! Data (`samples.rs`): fabric strains along warp and weft and the measured tensions per yarn.
 //! Residuals are `model − data` on both tensions of every row. The parameters are kept in their
 //! physical range by fitting `A = H·σ(x0)` (`H = e01 + e02`, σ the logistic function, so
 //! `0 < A < H`), `B = exp(x1)`, `C = exp(x2)`.

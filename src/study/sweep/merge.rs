@@ -9,96 +9,39 @@ use super::SweepError;
 use super::field::StoredField;
 use super::plan::Plan;
 use super::rows::Row;
-use super::run::{Outcome, pool};
+use super::run::Outcome;
 use super::store::{self, ReadReport};
 
 /// Combines sweep folders (shards) of one sweep into `out`: the rows (the first of each
 /// design), their fields and the lock, as one sweep folder.
 /// Returns the sweep's plan (read from the folders' `sweep.lock`) with the outcome.
-pub fn merge(
-    inputs: &[PathBuf],
-    out: &Path,
-    jobs: Option<usize>,
-) -> Result<(Plan, Outcome), SweepError> {
+pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepError> {
     let start = Instant::now();
-    let pool = pool(jobs)?;
     if inputs.is_empty() {
         return Err(SweepError::BadInput(
             "merge: expected at least one sweep folder".into(),
         ));
     }
     // Never overwrite rows: an existing results set in `out` must be one of the inputs.
-    if out.join("results.csv").exists() {
-        let same = |a: &Path| match (fs::canonicalize(a), fs::canonicalize(out)) {
-            (Ok(a), Ok(b)) => a == b,
-            _ => false,
-        };
-        if !inputs.iter().any(|d| same(d)) {
-            return Err(SweepError::BadInput(format!(
-                "merge: {} already holds a results.csv; list it among the folders to merge into it, or choose another --out",
-                out.display()
-            )));
-        }
+    if out.join("results.csv").exists() && !inputs.iter().any(|d| same_folder(d, out)) {
+        return Err(SweepError::BadInput(format!(
+            "merge: {} already holds a results.csv; list it among the folders to merge into it, or choose another --out",
+            out.display()
+        )));
     }
-    let mut plan: Option<(Plan, PathBuf)> = None;
-    let mut rows: Vec<Row> = Vec::new();
-    let mut sources: HashMap<String, PathBuf> = HashMap::new();
-    let mut report = ReadReport::default();
-    for dir in inputs {
-        let lock = store::read_lock(dir).map_err(|e| {
-            SweepError::BadInput(format!("{e}: {} is not a sweep folder", dir.display()))
-        })?;
-        if !dir.join("results.csv").exists() {
-            return Err(SweepError::BadInput(format!(
-                "{}: no results.csv: not a sweep folder",
-                dir.display()
-            )));
-        }
-        if let Some((p, first)) = &plan {
-            if lock.base_hash != p.base_hash || lock.sweep_hash != p.sweep_hash {
-                let what = if lock.base_hash != p.base_hash {
-                    "base scene"
-                } else {
-                    "grid"
-                };
-                return Err(SweepError::BadInput(format!(
-                    "merge: {} and {} come from different sweeps (their {what} differs: {} and {}); merge only the shards of one sweep",
-                    first.display(),
-                    dir.display(),
-                    p.sweep_file,
-                    lock.plan.sweep_file
-                )));
-            }
-        } else {
-            plan = Some((lock.plan.clone(), dir.clone()));
-        }
-        let (p, _) = plan.as_ref().expect("set above");
-        let (found, r) = store::read_rows(dir, p).map_err(|e| SweepError::Run(e.to_string()))?;
-        report.truncated += r.truncated;
-        report.foreign += r.foreign;
-        report.no_field += r.no_field;
-        report.duplicates += r.duplicates;
-        for row in found {
-            if sources.contains_key(&row.design) {
-                report.duplicates += 1;
-                continue;
-            }
-            sources.insert(row.design.clone(), dir.clone());
-            rows.push(row);
-        }
-    }
-    let (plan, _) = plan.expect("at least one input");
+    let Gathered {
+        plan,
+        mut rows,
+        sources,
+        mut report,
+    } = gather(inputs)?;
     report.kept = rows.len();
     rows.sort_by_key(|r| r.index);
     store::prepare_dir(out, &plan, None).map_err(|e| SweepError::BadInput(e.to_string()))?;
     for row in rows.iter().filter(|r| r.map.is_some()) {
         let from = StoredField::path(&sources[&row.design], &row.design);
         let to = StoredField::path(out, &row.design);
-        let same = match (fs::canonicalize(&from), fs::canonicalize(&to)) {
-            (Ok(a), Ok(b)) => a == b,
-            _ => false,
-        };
-        if !same {
+        if !same_folder(&from, &to) {
             fs::copy(&from, &to).map_err(|e| {
                 SweepError::Run(format!(
                     "cannot copy {} to {}: {e}",
@@ -114,11 +57,82 @@ pub fn merge(
         rows,
         ran: 0,
         kept: report,
-        threads: pool.current_num_threads(),
+        threads: 1,
         run_wall_s: 0.0,
         wall_s: start.elapsed().as_secs_f64(),
         files: vec![csv],
         stopped: false,
     };
     Ok((plan, outcome))
+}
+
+/// Two paths name the same file or folder.
+fn same_folder(a: &Path, b: &Path) -> bool {
+    match (fs::canonicalize(a), fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+/// The rows of the input folders (the first of each design) and where each came from.
+struct Gathered {
+    plan: Plan,
+    rows: Vec<Row>,
+    sources: HashMap<String, PathBuf>,
+    report: ReadReport,
+}
+
+/// Reads the input folders, which must be sweep folders of one sweep (the same base scene and
+/// grid in their locks).
+fn gather(inputs: &[PathBuf]) -> Result<Gathered, SweepError> {
+    let mut first: Option<(Plan, PathBuf)> = None;
+    let mut rows: Vec<Row> = Vec::new();
+    let mut sources: HashMap<String, PathBuf> = HashMap::new();
+    let mut report = ReadReport::default();
+    for dir in inputs {
+        let lock = store::read_lock(dir).map_err(|e| {
+            SweepError::BadInput(format!("{e}: {} is not a sweep folder", dir.display()))
+        })?;
+        if !dir.join("results.csv").exists() {
+            return Err(SweepError::BadInput(format!(
+                "{}: no results.csv: not a sweep folder",
+                dir.display()
+            )));
+        }
+        let (plan, first_dir) = first.get_or_insert_with(|| (lock.plan.clone(), dir.clone()));
+        if lock.base_hash != plan.base_hash || lock.sweep_hash != plan.sweep_hash {
+            let what = if lock.base_hash != plan.base_hash {
+                "base scene"
+            } else {
+                "grid"
+            };
+            return Err(SweepError::BadInput(format!(
+                "merge: {} and {} come from different sweeps (their {what} differs: {} and {}); merge only the shards of one sweep",
+                first_dir.display(),
+                dir.display(),
+                plan.sweep_file,
+                lock.plan.sweep_file
+            )));
+        }
+        let (found, r) = store::read_rows(dir, plan).map_err(|e| SweepError::Run(e.to_string()))?;
+        report.truncated += r.truncated;
+        report.foreign += r.foreign;
+        report.no_field += r.no_field;
+        report.duplicates += r.duplicates;
+        for row in found {
+            if sources.contains_key(&row.design) {
+                report.duplicates += 1;
+                continue;
+            }
+            sources.insert(row.design.clone(), dir.clone());
+            rows.push(row);
+        }
+    }
+    let (plan, _) = first.expect("at least one input");
+    Ok(Gathered {
+        plan,
+        rows,
+        sources,
+        report,
+    })
 }

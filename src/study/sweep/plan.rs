@@ -2,7 +2,7 @@
 //! one value), their order and their hashes.
 
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
@@ -118,140 +118,23 @@ impl Plan {
                 )));
             }
         }
-        // The base scene: a file, an inline [scene] table over it, or both, or neither.
-        let base_file = match doc.get("base") {
-            None => None,
-            Some(toml::Value::String(s)) => {
-                let dir = path.parent().unwrap_or(Path::new(""));
-                Some(dir.join(s))
-            }
-            Some(v) => {
-                return Err(bad(format!(
-                    "base = {v}: expected the path of a scene file, relative to the sweep file"
-                )));
-            }
-        };
-        let inline = match doc.get("scene") {
-            None => None,
-            Some(toml::Value::Table(t)) => Some(t.clone()),
-            Some(v) => return Err(bad(format!("scene = {v}: expected a [scene] table"))),
-        };
-        let base_display = base_file.as_ref().map(|p| p.display().to_string());
-        let (base_text, base_origin) = match (&base_file, &inline) {
-            (None, None) => (String::new(), format!("{file} (the default scene)")),
-            (Some(b), None) => {
-                let t = fs::read_to_string(b).map_err(|e| {
-                    bad(format!(
-                        "base = {}: cannot read the scene file: {e}",
-                        b.display()
-                    ))
-                })?;
-                (t, b.display().to_string())
-            }
-            (None, Some(t)) => (
-                toml::to_string(t).map_err(|e| bad(format!("[scene]: {e}")))?,
-                format!("{file} [scene]"),
-            ),
-            (Some(b), Some(over)) => {
-                let origin = format!("{} with {file} [scene]", b.display());
-                let t = fs::read_to_string(b).map_err(|e| {
-                    bad(format!(
-                        "base = {}: cannot read the scene file: {e}",
-                        b.display()
-                    ))
-                })?;
-                let mut table: toml::Table = t.parse().map_err(|e: toml::de::Error| {
-                    SweepError::BadInput(format!(
-                        "{}: not valid TOML: {}",
-                        b.display(),
-                        e.to_string().trim_end()
-                    ))
-                })?;
-                merge_tables(&mut table, over);
-                (
-                    toml::to_string(&table).map_err(|e| bad(format!("[scene]: {e}")))?,
-                    origin,
-                )
-            }
-        };
+        let base = BaseText::of(path, doc)?;
         let overrides = parse_sets(sets)?;
-        let base_scene = Scene::from_toml_str(&base_text, &base_origin, &overrides)
+        let base_scene = Scene::from_toml_str(&base.text, &base.origin, &overrides)
             .map_err(|e| SweepError::BadInput(e.to_string()))?;
         let scene_table = toml::Table::try_from(&base_scene)
             .map_err(|e| SweepError::Run(format!("cannot tabulate the base scene: {e}")))?;
-
-        // The parameters.
-        let sweep = match doc.get("sweep") {
-            Some(toml::Value::Table(t)) if !t.is_empty() => t,
-            _ => {
-                return Err(bad(
-                    "expected a [sweep] table with at least one parameter, e.g. r = [5.0, 10.0]"
-                        .into(),
-                ));
-            }
-        };
-        let mut entries = Vec::new();
-        flatten_sweep("", sweep, &mut entries);
-        let mut axes: Vec<Axis> = Vec::new();
-        for (name, value) in entries {
-            let key = SHORT_NAMES
-                .iter()
-                .find(|(s, _)| *s == name)
-                .map(|(_, k)| k.to_string())
-                .unwrap_or_else(|| name.clone());
-            let base_value = match lookup(&scene_table, &key) {
-                Some(toml::Value::Table(_)) | None => {
-                    return Err(bad(format!(
-                        "sweep.{name}: unknown key; expected a scene key (such as tools.r, process.stroke or mesh.element_size) or a short name: r, rp, rm, friction, holder_pressure"
-                    )));
-                }
-                Some(v) => v.clone(),
-            };
-            if let Some(other) = axes.iter().find(|a| a.key == key) {
-                return Err(bad(format!(
-                    "sweep.{name}: {key} is swept twice (also as sweep.{})",
-                    other.column
-                )));
-            }
-            let values = axis_values(&name, &key, &value, &base_value).map_err(bad)?;
-            let column = SHORT_NAMES
-                .iter()
-                .find(|(_, k)| *k == key)
-                .map(|(s, _)| s.to_string())
-                .unwrap_or_else(|| key.clone());
-            axes.push(Axis {
-                key,
-                column,
-                values,
-            });
-        }
-        // The grid's order: the short names first, then the other keys alphabetically.
-        axes.sort_by_key(|a| {
-            let rank = SHORT_NAMES
-                .iter()
-                .position(|(_, k)| *k == a.key)
-                .unwrap_or(SHORT_NAMES.len());
-            (rank, a.key.clone())
-        });
-        let total = axes
-            .iter()
-            .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
-            .unwrap_or(usize::MAX);
-        if total > 1_000_000 {
-            return Err(bad(format!(
-                "the grid has {total} designs; expected at most 1,000,000 (split the sweep)"
-            )));
-        }
+        let axes = axes_of(doc, &scene_table).map_err(bad)?;
         let base_json = serde_json::to_string(&base_scene).expect("a scene is plain data");
         let base_hash = fnv_hex(&base_json);
         let sweep_json = serde_json::to_string(&axes).expect("the axes are plain data");
         let sweep_hash = fnv_hex(&format!("{base_hash}\n{sweep_json}"));
         Ok(Plan {
             sweep_file: file,
-            base_file: base_display,
+            base_file: base.file.map(|p| p.display().to_string()),
             set: sets.to_vec(),
-            base_text,
-            base_origin,
+            base_text: base.text,
+            base_origin: base.origin,
             base_scene,
             axes,
             base_hash,
@@ -275,6 +158,133 @@ impl Plan {
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
+}
+
+/// The base scene's TOML text: a file, an inline `[scene]` table over it, or both, or neither
+/// (the default scene).
+struct BaseText {
+    file: Option<PathBuf>,
+    text: String,
+    /// What errors in the base scene are blamed on.
+    origin: String,
+}
+
+impl BaseText {
+    fn of(path: &Path, doc: &toml::Table) -> Result<BaseText, SweepError> {
+        let sweep_file = path.display().to_string();
+        let bad = |detail: String| SweepError::BadInput(format!("{sweep_file}: {detail}"));
+        let file = match doc.get("base") {
+            None => None,
+            Some(toml::Value::String(s)) => Some(path.parent().unwrap_or(Path::new("")).join(s)),
+            Some(v) => {
+                return Err(bad(format!(
+                    "base = {v}: expected the path of a scene file, relative to the sweep file"
+                )));
+            }
+        };
+        let inline = match doc.get("scene") {
+            None => None,
+            Some(toml::Value::Table(t)) => Some(t),
+            Some(v) => return Err(bad(format!("scene = {v}: expected a [scene] table"))),
+        };
+        let read = |b: &Path| {
+            fs::read_to_string(b).map_err(|e| {
+                bad(format!(
+                    "base = {}: cannot read the scene file: {e}",
+                    b.display()
+                ))
+            })
+        };
+        let to_text =
+            |t: &toml::Table| toml::to_string(t).map_err(|e| bad(format!("[scene]: {e}")));
+        let (text, origin) = match (&file, inline) {
+            (None, None) => (String::new(), format!("{sweep_file} (the default scene)")),
+            (Some(b), None) => (read(b)?, b.display().to_string()),
+            (None, Some(t)) => (to_text(t)?, format!("{sweep_file} [scene]")),
+            (Some(b), Some(over)) => {
+                let mut table: toml::Table = read(b)?.parse().map_err(|e: toml::de::Error| {
+                    SweepError::BadInput(format!(
+                        "{}: not valid TOML: {}",
+                        b.display(),
+                        e.to_string().trim_end()
+                    ))
+                })?;
+                merge_tables(&mut table, over);
+                let origin = format!("{} with {sweep_file} [scene]", b.display());
+                (to_text(&table)?, origin)
+            }
+        };
+        Ok(BaseText { file, text, origin })
+    }
+}
+
+/// The swept parameters of the `[sweep]` table, in grid order: the short names first, then
+/// the other keys alphabetically. `scene` is the base scene as a table (every key).
+fn axes_of(doc: &toml::Table, scene: &toml::Table) -> Result<Vec<Axis>, String> {
+    let sweep = match doc.get("sweep") {
+        Some(toml::Value::Table(t)) if !t.is_empty() => t,
+        _ => {
+            return Err(
+                "expected a [sweep] table with at least one parameter, e.g. r = [5.0, 10.0]".into(),
+            );
+        }
+    };
+    let mut entries = Vec::new();
+    flatten_sweep("", sweep, &mut entries);
+    let mut axes: Vec<Axis> = Vec::new();
+    for (name, value) in entries {
+        let axis = axis_of(&name, &value, scene)?;
+        if let Some(other) = axes.iter().find(|a| a.key == axis.key) {
+            return Err(format!(
+                "sweep.{name}: {} is swept twice (also as sweep.{})",
+                axis.key, other.column
+            ));
+        }
+        axes.push(axis);
+    }
+    axes.sort_by_key(|a| {
+        let rank = SHORT_NAMES
+            .iter()
+            .position(|(_, k)| *k == a.key)
+            .unwrap_or(SHORT_NAMES.len());
+        (rank, a.key.clone())
+    });
+    let total = axes
+        .iter()
+        .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
+        .unwrap_or(usize::MAX);
+    if total > 1_000_000 {
+        return Err(format!(
+            "the grid has {total} designs; expected at most 1,000,000 (split the sweep)"
+        ));
+    }
+    Ok(axes)
+}
+
+/// One `[sweep]` entry as an axis: its scene key, its column and its values.
+fn axis_of(name: &str, value: &toml::Value, scene: &toml::Table) -> Result<Axis, String> {
+    let key = SHORT_NAMES
+        .iter()
+        .find(|(s, _)| *s == name)
+        .map_or_else(|| name.to_string(), |(_, k)| k.to_string());
+    let base_value = match lookup(scene, &key) {
+        Some(toml::Value::Table(_)) | None => {
+            return Err(format!(
+                "sweep.{name}: unknown key; expected a scene key (such as tools.r, process.stroke or mesh.element_size) or a short name: r, rp, rm, friction, holder_pressure"
+            ));
+        }
+        Some(v) => v,
+    };
+    let values = axis_values(name, &key, value, base_value)?;
+    let column = SHORT_NAMES
+        .iter()
+        .find(|(_, k)| *k == key)
+        .map_or_else(|| key.clone(), |(s, _)| s.to_string());
+    Ok(Axis {
+        key,
+        column,
+        values,
+    })
 }
 
 pub(super) fn parse_sets(sets: &[String]) -> Result<Vec<Override>, SweepError> {

@@ -179,7 +179,8 @@ fn run_design(
 }
 
 /// Runs a sweep into `dir`: the designs of the grid (of the shard) without a row yet, in
-/// parallel; then the maps, the report sheet and `results.json`.
+/// parallel. The maps, the report sheet and `results.json` are drawn after, from the rows and
+/// the fields (see [`crate::publish`]).
 pub fn run(
     plan: &Plan,
     dir: &Path,
@@ -188,59 +189,19 @@ pub fn run(
 ) -> Result<Outcome, SweepError> {
     let start = Instant::now();
     let pool = pool(options.jobs)?;
-    let csv_path = dir.join("results.csv");
     let columns = plan.columns();
     let designs = plan.designs();
-    // Before any work: the folder, the earlier rows, the lock.
-    let (kept_rows, kept) = if options.resume && csv_path.exists() {
-        let lock = store::read_lock(dir).map_err(|e| {
-            SweepError::BadInput(format!(
-                "--resume: {e}; cannot tell which sweep {} belongs to (remove the folder, or use another --out)",
-                csv_path.display()
-            ))
-        })?;
-        if lock.base_hash != plan.base_hash {
-            return Err(SweepError::BadInput(format!(
-                "--resume: {} was swept with another base scene ({} with {}; now {} with {}): its rows cannot be reused; use another --out, or remove the folder to start again",
-                dir.display(),
-                lock.plan.sweep_file,
-                lock.plan.base_file.as_deref().unwrap_or("the inline scene"),
-                plan.sweep_file,
-                plan.base_file.as_deref().unwrap_or("the inline scene"),
-            )));
-        }
-        store::read_rows(dir, plan).map_err(|e| SweepError::Run(e.to_string()))?
-    } else if csv_path.exists() {
-        return Err(SweepError::BadInput(format!(
-            "{} exists: add --resume to continue that sweep, or choose another --out",
-            csv_path.display()
-        )));
-    } else {
-        (Vec::new(), ReadReport::default())
-    };
-    store::prepare_dir(dir, plan, options.shard)
-        .map_err(|e| SweepError::BadInput(e.to_string()))?;
-    // The CSV, rewritten with the rows kept (a half-written line or a duplicate goes).
-    store::write_rows(dir, plan, &kept_rows).map_err(|e| {
-        SweepError::BadInput(format!(
-            "{}: cannot write the output folder: {e}",
-            dir.display()
-        ))
-    })?;
-    let file = fs::OpenOptions::new()
-        .append(true)
-        .open(&csv_path)
-        .map_err(|e| SweepError::BadInput(format!("{}: cannot write: {e}", csv_path.display())))?;
-
+    // Before any work: the earlier rows, the folder, the lock.
+    let (kept_rows, kept) = earlier_rows(plan, dir, options.resume)?;
+    let file = open_rows(plan, dir, options.shard, &kept_rows)?;
     let have: HashSet<&str> = kept_rows.iter().map(|r| r.design.as_str()).collect();
-    let pending: Vec<&Design> = designs
-        .iter()
-        .filter(|d| options.shard.is_none_or(|s| s.contains(d.index)))
-        .filter(|d| !have.contains(d.id.as_str()))
-        .collect();
+    let mine = |index: usize| options.shard.is_none_or(|s| s.contains(index));
     let mut valid = Vec::new();
     let mut invalid = Vec::new();
-    for d in pending {
+    for d in designs
+        .iter()
+        .filter(|d| mine(d.index) && !have.contains(d.id.as_str()))
+    {
         match plan.design_scene(d) {
             Ok(scene) => valid.push((d, scene)),
             Err(e) => invalid.push(Row::invalid(plan, &columns, d, e.detail)),
@@ -257,7 +218,7 @@ pub fn run(
             rows: Vec::new(),
             feasible: 0,
             error: None,
-            path: csv_path.clone(),
+            path: dir.join("results.csv"),
         }),
         progress,
         total: valid.len() + invalid.len(),
@@ -269,27 +230,7 @@ pub fn run(
     let stop = options.stop.as_deref();
     pool.install(|| {
         valid.par_iter().with_max_len(1).for_each(|(d, scene)| {
-            if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
-                return;
-            }
-            let t = Instant::now();
-            let row = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                run_design(plan, &columns, d, scene, dir, stop)
-            }))
-            .unwrap_or_else(|payload| {
-                let reason = format!(
-                    "the program failed on this design: {}",
-                    panic_message(&*payload)
-                );
-                Some(Row::failed(
-                    plan,
-                    &columns,
-                    d,
-                    reason,
-                    t.elapsed().as_secs_f64(),
-                ))
-            });
-            if let Some(row) = row {
+            if let Some(row) = run_guarded(plan, &columns, d, scene, dir, stop) {
                 sink.push(row);
             }
         });
@@ -308,23 +249,103 @@ pub fn run(
     let mut rows = kept_rows;
     rows.extend(state.rows);
     rows.sort_by_key(|r| r.index);
-    let mine = designs
-        .iter()
-        .filter(|d| options.shard.is_none_or(|s| s.contains(d.index)))
-        .count();
-    let present = rows
-        .iter()
-        .filter(|r| options.shard.is_none_or(|s| s.contains(r.index)))
-        .count();
+    let present = rows.iter().filter(|r| mine(r.index)).count();
     Ok(Outcome {
-        missing: mine.saturating_sub(present),
+        missing: designs
+            .iter()
+            .filter(|d| mine(d.index))
+            .count()
+            .saturating_sub(present),
         rows,
         ran,
         kept,
         threads: pool.current_num_threads(),
         run_wall_s,
         wall_s: start.elapsed().as_secs_f64(),
-        files: vec![csv_path],
+        files: vec![dir.join("results.csv")],
         stopped,
+    })
+}
+
+/// The rows of an earlier run of this sweep in `dir` (with `--resume`); refuses a folder that
+/// holds rows without `--resume`, or rows of another base scene.
+fn earlier_rows(
+    plan: &Plan,
+    dir: &Path,
+    resume: bool,
+) -> Result<(Vec<Row>, ReadReport), SweepError> {
+    let csv_path = dir.join("results.csv");
+    if !csv_path.exists() {
+        return Ok((Vec::new(), ReadReport::default()));
+    }
+    if !resume {
+        return Err(SweepError::BadInput(format!(
+            "{} exists: add --resume to continue that sweep, or choose another --out",
+            csv_path.display()
+        )));
+    }
+    let lock = store::read_lock(dir).map_err(|e| {
+        SweepError::BadInput(format!(
+            "--resume: {e}; cannot tell which sweep {} belongs to (remove the folder, or use another --out)",
+            csv_path.display()
+        ))
+    })?;
+    if lock.base_hash != plan.base_hash {
+        return Err(SweepError::BadInput(format!(
+            "--resume: {} was swept with another base scene ({} with {}; now {} with {}): its rows cannot be reused; use another --out, or remove the folder to start again",
+            dir.display(),
+            lock.plan.sweep_file,
+            lock.plan.base_file.as_deref().unwrap_or("the inline scene"),
+            plan.sweep_file,
+            plan.base_file.as_deref().unwrap_or("the inline scene"),
+        )));
+    }
+    store::read_rows(dir, plan).map_err(|e| SweepError::Run(e.to_string()))
+}
+
+/// Prepares the folder and writes `results.csv` anew with the rows kept (a half-written line
+/// or a duplicate goes); returns it open for appending.
+fn open_rows(
+    plan: &Plan,
+    dir: &Path,
+    shard: Option<Shard>,
+    kept: &[Row],
+) -> Result<fs::File, SweepError> {
+    store::prepare_dir(dir, plan, shard).map_err(|e| SweepError::BadInput(e.to_string()))?;
+    let path = store::write_rows(dir, plan, kept).map_err(|e| {
+        SweepError::BadInput(format!(
+            "{}: cannot write the output folder: {e}",
+            dir.display()
+        ))
+    })?;
+    fs::OpenOptions::new()
+        .append(true)
+        .open(&path)
+        .map_err(|e| SweepError::BadInput(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// Runs one design unless stopped; a panic in the program becomes a FAILED row that says so.
+fn run_guarded(
+    plan: &Plan,
+    columns: &[Column],
+    design: &Design,
+    scene: &Scene,
+    dir: &Path,
+    stop: Option<&AtomicBool>,
+) -> Option<Row> {
+    if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+        return None;
+    }
+    let t = Instant::now();
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        run_design(plan, columns, design, scene, dir, stop)
+    }))
+    .unwrap_or_else(|payload| {
+        let reason = format!(
+            "the program failed on this design: {}",
+            panic_message(&*payload)
+        );
+        let wall = t.elapsed().as_secs_f64();
+        Some(Row::failed(plan, columns, design, reason, wall))
     })
 }
