@@ -1,5 +1,7 @@
 //! The command line as scripts use it: the real binary, its stdout, stderr and exit codes.
 
+mod analytic;
+
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -53,15 +55,25 @@ fn law_prints_the_reference_tension() {
             "closure", "dt11_de1", "dt11_de2", "dt22_de1", "dt22_de2", "t11", "t22", "w1", "w2"
         ]
     );
-    let t11 = m["t11"].as_f64().unwrap();
-    assert!((t11 / 96.5786 - 1.0).abs() < 1e-6, "t11 = {t11}");
-    let closure = m["closure"].as_f64().unwrap();
+    let reference = analytic::LAW_REFERENCE[0];
+    let num = |k: &str| m[k].as_f64().unwrap();
+    let t11 = num("t11");
+    assert!((t11 / reference.t[0] - 1.0).abs() < 1e-6, "t11 = {t11}");
+    let closure = num("closure");
     assert!(
-        (closure / 0.073713 - 1.0).abs() < 1e-5,
+        (closure / reference.closure - 1.0).abs() < 1e-5,
         "closure = {closure}"
     );
-    let (w1, w2) = (m["w1"].as_f64().unwrap(), m["w2"].as_f64().unwrap());
-    assert!((w1 - w2 - closure).abs() < 1e-12);
+    // The printed crown displacements and tensions satisfy the paper's equations (1)–(5).
+    let p = CellParams::PAPER_GLASS;
+    let (w, t) = ([num("w1"), num("w2")], [t11, num("t22")]);
+    let res = analytic::paper_equation_residuals(&p, reference.eps, w, t);
+    let force = 1e-9 * (t[0] + t[1]) + 1e-10 * (p.c[0] + p.c[1]);
+    assert!(
+        res[0].abs() <= force && res[2].abs() <= force && res[3].abs() <= force,
+        "{res:?}"
+    );
+    assert!(res[1].abs() <= 1e-8 * p.a, "{res:?}");
 }
 
 #[test]
@@ -183,7 +195,18 @@ fn law_curves_write_the_figure6_csv_and_png() {
         );
     }
     // The reference point (0.004, 0.004) is row 40 of the k = 1 curve.
-    assert!((rows[40][3] / 96.5786 - 1.0).abs() < 1e-6);
+    let reference = analytic::LAW_REFERENCE[0];
+    assert!(
+        (rows[40][1] - reference.eps[0]).abs() < 1e-15,
+        "{:?}",
+        rows[40]
+    );
+    assert!(
+        (rows[40][2] - reference.eps[1]).abs() < 1e-15,
+        "{:?}",
+        rows[40]
+    );
+    assert!((rows[40][3] / reference.t[0] - 1.0).abs() < 1e-6);
 
     assert_png(&png);
 }
@@ -271,7 +294,8 @@ fn fit_recovers_a_and_b_from_synthetic_curves() {
     let rms = reported(&out, "RMS residual");
     assert!(
         rms > 0.1 && rms < 0.5,
-        "RMS = {rms} (noise is uniform ±0.5 N, rms 0.29)"
+        "RMS = {rms} (noise is uniform ±0.5 N, rms {:.2})",
+        analytic::uniform_rms(0.5)
     );
     assert_eq!(reported(&out, "points"), 200.0);
     assert!(out.contains(" mm") && out.contains(" 1/N") && out.contains("C = 38000.0 N (fixed)"));

@@ -2,8 +2,11 @@
 //! k = ε11/ε22 = 1, 2, 4 and uniaxial (ε22 = 0), on the paper's glass fabric.
 //!
 //! The table is kept as a snapshot (0.01 N), and paired with checks that do not come from the
-//! code: the reference values worked out independently in the law note, and the closed form of
-//! the linear part once the closure has saturated.
+//! code: the reference values worked out independently in the law note, the paper's equations
+//! (1)–(5) on every row, the symmetric cell solved by bisection, and the closed form of the
+//! linear part once the closure has saturated (all in `analytic`).
+
+mod analytic;
 
 use wovenform::core::law::{CellLaw, CellParams};
 use wovenform::report::figure6::{EPS_MAX, Figure6Row, StrainPath, figure6_table};
@@ -50,43 +53,53 @@ fn figure6_table_snapshot() {
 #[test]
 fn figure6_passes_through_the_reference_values() {
     let rows = table();
-    let cases = [
-        (StrainPath::Ratio(1.0), 0.004, [96.5786, 96.5786]),
-        (StrainPath::Uniaxial, 0.010, [230.8726, 88.7289]),
-        (StrainPath::Ratio(2.0), 0.006, [135.2375, 100.3588]),
+    let paths = [
+        StrainPath::Ratio(1.0),
+        StrainPath::Uniaxial,
+        StrainPath::Ratio(2.0),
     ];
-    for (path, eps1, t) in cases {
+    for (path, reference) in paths.into_iter().zip(analytic::LAW_REFERENCE) {
+        let eps1 = reference.eps[0];
         let r = row(&rows, path, eps1);
+        let eps2 = reference.eps[1];
+        assert!(
+            (r.eps[1] - eps2).abs() < 1e-12,
+            "{path:?}: ε22 {}",
+            r.eps[1]
+        );
         // The note prints 4 decimals, so 1e-6 relative is the printed precision (±0.00005 N).
+        let t = reference.t;
         assert_rel(r.t[0], t[0], 1e-6, &format!("T11 on {path:?} at {eps1}"));
         assert_rel(r.t[1], t[1], 1e-6, &format!("T22 on {path:?} at {eps1}"));
     }
 }
 
-/// The symmetric cell (k = 1) solved independently of the law's Newton: by symmetry both crowns
-/// sit at `h = e0 − s/2`, each yarn is a straight bar of doubled length `ℓ = sqrt(4h² + L²)`,
-/// `L = L0 (1 + ε)`, with `V = 2 C h q`, `T = C L q`, `q = 1/ℓ0 − 1/ℓ`, and the closure solves
-/// the scalar equation `s = A (1 − exp(−2 B V))` (bisection). Returns `(T, s)`.
-fn symmetric_cell(p: CellParams, eps: f64) -> (f64, f64) {
-    let (l0, e0, c) = (p.l0[0], p.e0[0], p.c[0]);
-    let len0 = (l0 * l0 + 4.0 * e0 * e0).sqrt();
-    let l = l0 * (1.0 + eps);
-    let q = |s: f64| {
-        let h = e0 - 0.5 * s;
-        (1.0 / len0 - 1.0 / (4.0 * h * h + l * l).sqrt()).max(0.0)
-    };
-    let g = |s: f64| s - p.a * (1.0 - (-2.0 * p.b * 2.0 * c * (e0 - 0.5 * s) * q(s)).exp());
-    let (mut lo, mut hi) = (0.0, p.a);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if g(mid) > 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
+/// Every row of the table, on all four paths, satisfies the paper's equations (1)–(5): the
+/// crown displacements of the law's solution at the row's strains are the certificate, and
+/// the row's own tensions must close equations (5) with them.
+#[test]
+fn figure6_every_row_satisfies_the_papers_equations() {
+    let p = CellParams::PAPER_GLASS;
+    let law = CellLaw::new(p);
+    let rows = table();
+    assert_eq!(rows.len(), 4 * 13);
+    for r in &rows {
+        let w = law.evaluate(r.eps, law.initial_state()).w(&law);
+        let res = analytic::paper_equation_residuals(&p, r.eps, w, r.t);
+        let force = 1e-9 * (r.t[0] + r.t[1]) + 1e-10 * (p.c[0] + p.c[1]);
+        assert!(
+            res[0].abs() <= force && res[2].abs() <= force && res[3].abs() <= force,
+            "{:?} at {:?}: residuals {res:?}",
+            r.path,
+            r.eps
+        );
+        assert!(
+            res[1].abs() <= 1e-8 * p.a,
+            "{:?} at {:?}: {res:?}",
+            r.path,
+            r.eps
+        );
     }
-    let s = 0.5 * (lo + hi);
-    (c * l * q(s), s)
 }
 
 #[test]
@@ -96,28 +109,22 @@ fn figure6_k1_matches_the_symmetric_cell_solved_by_bisection() {
         .iter()
         .filter(|r| r.path == StrainPath::Ratio(1.0) && r.eps[0] > 0.0)
     {
-        let (t, _) = symmetric_cell(CellParams::PAPER_GLASS, r.eps[0]);
+        let (t, _) = analytic::symmetric_cell(CellParams::PAPER_GLASS, r.eps[0]);
         assert_rel(r.t[0], t, 1e-9, &format!("T11 at k = 1, ε = {}", r.eps[0]));
         assert_rel(r.t[1], t, 1e-9, &format!("T22 at k = 1, ε = {}", r.eps[0]));
     }
 }
 
-/// Once the closure has saturated (s → A), the symmetric cell is linear-elastic in closed form:
-/// `h = e0 − A/2`, `T = C L (1/ℓ0 − 1/ℓ)`, slope `dT/dε = C L0 (1/ℓ0 − 1/ℓ + L²/ℓ³)`, which is
-/// `C sin²θ` (about 37,700 N) up to terms of the order of the crimp (below 1 %).
+/// Once the closure has saturated (s → A), the symmetric cell is linear-elastic in closed form
+/// (`analytic::saturated_symmetric_cell`), its slope `C sin²θ` (about 37,700 N) up to terms of
+/// the order of the crimp (below 1 %).
 #[test]
 fn figure6_linear_part_tends_to_the_saturated_closed_form() {
     let p = CellParams::PAPER_GLASS;
-    let (l0, e0, c, a) = (p.l0[0], p.e0[0], p.c[0], p.a);
-    let len0 = (l0 * l0 + 4.0 * e0 * e0).sqrt();
-    let h = e0 - 0.5 * a;
+    let c = p.c[0];
     let closed = |eps: f64| {
-        let l = l0 * (1.0 + eps);
-        let len = (4.0 * h * h + l * l).sqrt();
-        let t = c * l * (1.0 / len0 - 1.0 / len);
-        let slope = c * l0 * (1.0 / len0 - 1.0 / len + l * l / len.powi(3));
-        let sin2 = (l / len).powi(2);
-        (t, slope, sin2)
+        let cell = analytic::saturated_symmetric_cell(p, eps);
+        (cell.t, cell.slope, cell.sin2)
     };
     let rows = table();
     let law = CellLaw::new(p);

@@ -388,21 +388,3 @@ fn bad_input_is_refused_before_any_work() {
     }
     assert!(!dir.join("x").exists() && !dir.join("y").exists());
 }
-
-#[test]
-fn the_preset_sweep_holds_both_paper_designs() {
-    let plan = wovenform::study::sweep::Plan::load(&preset("paper-box-sweep.toml"), &[]).unwrap();
-    let designs = plan.designs();
-    let columns: Vec<&str> = plan.axes.iter().map(|a| a.column.as_str()).collect();
-    assert_eq!(columns, ["r", "rp", "rm", "friction", "holder_pressure"]);
-    for want in [[5.0, 6.0, 5.0, 0.2, 1.0], [10.0, 15.0, 10.0, 0.2, 1.0]] {
-        let found = designs.iter().any(|d| {
-            d.values
-                .iter()
-                .zip(want)
-                .all(|(v, w)| v.as_float() == Some(w))
-        });
-        assert!(found, "{want:?} is not in the grid");
-    }
-    assert!(designs.iter().all(|d| plan.design_scene(d).is_ok()));
-}

@@ -2,6 +2,7 @@
 //! The rigid tools against closed forms (distances to faces, spheres and tori of known radius)
 //! and finite differences (normal = gradient of the distance, continuity of the normal).
 
+mod analytic;
 mod common;
 use common::Lcg;
 use wovenform::core::tools::Tool;
@@ -185,8 +186,8 @@ fn closed_form_distances() {
         tip: 0.0,
     };
     let p = [10.0, -20.0, 30.0 - 5.0];
-    let r = (100.0f64 + 400.0 + 25.0).sqrt();
-    assert!((sphere.distance(p).d - (r - 30.0)).abs() < 1e-9);
+    let exact = analytic::sphere_distance([0.0, 0.0, 30.0], 30.0, p);
+    assert!((sphere.distance(p).d - exact).abs() < 1e-9);
     // Ellipsoid: on an axis the distance is the gap to the vertex.
     let ell = Tool::EllipsoidPunch {
         axes: [40.0, 25.0, 20.0],
@@ -204,7 +205,8 @@ fn curvature_of_the_nose_and_the_sphere() {
         tip: 0.0,
     };
     let h = sphere.curvature([0.0, 0.0, 0.0], 1.0);
-    assert!((h[0][0] - 1.0 / 30.0).abs() < 1e-6 && (h[1][1] - 1.0 / 30.0).abs() < 1e-6);
+    let k_sphere = analytic::circle_curvature(30.0);
+    assert!((h[0][0] - k_sphere).abs() < 1e-6 && (h[1][1] - k_sphere).abs() < 1e-6);
     assert!(h[2][2].abs() < 1e-6);
     // On the nose torus at its lowest-outward point along x, the profile curvature is 1/rp.
     let punch = Tool::box_punch([60.0, 60.0], 10.0, 6.0, 0.0);
@@ -216,7 +218,10 @@ fn curvature_of_the_nose_and_the_sphere() {
     let k: f64 = (0..3)
         .map(|i| (0..3).map(|j| tdir[i] * h[i][j] * tdir[j]).sum::<f64>())
         .sum();
-    assert!((k - 1.0 / 6.0).abs() < 1e-5, "profile curvature {k}");
+    assert!(
+        (k - analytic::circle_curvature(6.0)).abs() < 1e-5,
+        "profile curvature {k}"
+    );
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! The explorer's keys, through its state: what each key changes and which command it asks
 //! of the event loop.
 
+mod analytic;
 mod tui_common;
 
 use std::path::PathBuf;

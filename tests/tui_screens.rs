@@ -1,9 +1,11 @@
 //! The explorer's main screens, drawn on ratatui's `TestBackend` and kept as snapshots in
 //! `snapshots/`; each is paired with checks whose answer does not come from the drawing code:
-//! the verdict against the locking angle (60°: 78° is over it, 58.9° under), the colours of
-//! the figures over a limit, the position of the shear peak in the map (the punch corners),
-//! the design counts.
+//! the design count of the grid (2 × 2 × 2), the ETA at a constant pace, the verdict against
+//! the locking angle (60°: 78° is over it, 58.9° under) and the colours of the figures over a
+//! limit, the position of the shear peak in the map (the punch corners), the scene's bound on
+//! an edited value, the paper's open design in the detail, the keys README.md documents.
 
+mod analytic;
 mod tui_common;
 
 use ratatui::crossterm::event::KeyCode;
@@ -53,7 +55,7 @@ fn running_with_partial_results() {
     app.now_s = 12.0;
     assert_eq!(app.run, RunState::Running);
     // 3 done in 12 s: 4 s a design, 5 to go: 20 s.
-    assert_eq!(app.eta_s(), Some(20.0));
+    assert_eq!(app.eta_s(), Some(analytic::eta_s(3, 8, 12.0)));
     let s = screen(&app, 80, 24);
     assert!(s.contains("3/8 designs, 12 s elapsed, ETA 20 s"), "{s}");
     assert!(s.contains("running: 3/8 done, 1 feasible"), "{s}");
@@ -168,6 +170,45 @@ fn large_terminal_shows_the_detail_beside_the_table() {
     snapshot("tui_finished_160x48", &s);
 }
 
+/// The explorer's keys as README.md documents them ("The explorer"), each with a word of what
+/// it does: the answer the help screen is checked against.
+const README_KEYS: [(&str, &str); 11] = [
+    ("Tab", "parameters"),
+    ("↑ ↓", "select"),
+    ("Enter", "edit"),
+    ("← →", "accuracy"),
+    ("s S", "sort"),
+    ("f", "feasible"),
+    ("r", "run"),
+    ("c", "cancel"),
+    ("e", "export"),
+    ("?", "help"),
+    ("q", "quit"),
+];
+
+/// The help's entries: inside the help's box, for each line `KEYS  what they do`, the keys
+/// and the text.
+fn help_entries(screen: &str) -> Vec<(Vec<String>, String)> {
+    let lines: Vec<Vec<char>> = screen.lines().map(|l| l.chars().collect()).collect();
+    let Some((top, left)) = lines.iter().enumerate().find_map(|(y, l)| {
+        let text: String = l.iter().collect();
+        let byte = text.find("┌ Help")?;
+        Some((y, text[..byte].chars().count()))
+    }) else {
+        return Vec::new();
+    };
+    lines[top + 1..]
+        .iter()
+        .take_while(|l| l.get(left) == Some(&'│'))
+        .filter_map(|l| {
+            let inner: String = l[left + 1..].iter().take_while(|c| **c != '│').collect();
+            let (keys, does) = inner.trim().split_once("  ")?;
+            let keys = keys.split([',', ' ']).filter(|k| !k.is_empty());
+            Some((keys.map(String::from).collect(), does.trim().to_string()))
+        })
+        .collect()
+}
+
 #[test]
 fn help() {
     let mut app = explorer(false);
@@ -178,5 +219,13 @@ fn help() {
         s.contains("cancel: workers stop, finished rows stay"),
         "{s}"
     );
+    // Every documented key is on a line of the help, with what it does.
+    let entries = help_entries(&s);
+    for (keys, does) in README_KEYS {
+        let listed = entries.iter().any(|(k, text)| {
+            keys.split(' ').all(|key| k.iter().any(|x| x == key)) && text.contains(does)
+        });
+        assert!(listed, "the help does not list `{keys}` ({does}):\n{s}");
+    }
     snapshot("tui_help_80x24", &s);
 }
