@@ -9,12 +9,38 @@ use rayon::prelude::*;
 
 use crate::core::drawing::{DrawingResult, Tooling};
 use crate::core::law::CellParams;
+use crate::report::error::DrawError;
 use crate::report::figure6::{figure6_chart, figure6_csv, figure6_table};
 use crate::report::maps::{self, MapContext};
 use crate::report::sweep::{design_label, field_map, results_json, shared_scale_max, sheet};
-use crate::report::vtu;
-use crate::study::sweep::{Plan, Row, Shard, StoredField, write_atomic};
+use crate::report::vtu::vtu_string;
+use crate::study::sweep::{Plan, Row, Shard, StoreError, StoredField, write_atomic};
 use crate::summary::RunSummary;
+
+/// Why a file could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum PublishError {
+    #[error(transparent)]
+    Draw(#[from] DrawError),
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    #[error("{}: cannot {action}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        action: &'static str,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+fn io(path: &Path, action: &'static str) -> impl FnOnce(std::io::Error) -> PublishError {
+    let path = path.to_path_buf();
+    move |source| PublishError::Io {
+        path,
+        action,
+        source,
+    }
+}
 
 /// Draws the maps (on `pool`), the sheet and `results.json` of the sweep folder `dir` whose
 /// rows are `rows`; returns the files of the folder a user opens.
@@ -24,27 +50,27 @@ pub fn sweep_report(
     rows: &[Row],
     shard: Option<Shard>,
     pool: &rayon::ThreadPool,
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<Vec<PathBuf>, PublishError> {
     let designs = plan.designs();
     let top = shared_scale_max(plan, rows);
-    let read = |r: &Row| StoredField::read(dir, &r.design).map_err(|e| e.to_string());
+    let read = |r: &Row| StoredField::read(dir, &r.design).map_err(PublishError::from);
     // Every map on the common scale.
-    let drawn: Vec<Result<(), String>> = pool.install(|| {
+    let drawn: Vec<Result<(), PublishError>> = pool.install(|| {
         rows.par_iter()
             .with_max_len(1)
             .filter(|r| r.map.is_some())
             .map(|r| {
                 let label = design_label(plan, &designs[r.index]);
-                field_map(&read(r)?, &label, top)
-                    .write_png(&dir.join("maps").join(format!("{}.png", r.design)))
+                let png = dir.join("maps").join(format!("{}.png", r.design));
+                Ok(field_map(&read(r)?, &label, top).write_png(&png)?)
             })
             .collect()
     });
-    drawn.into_iter().collect::<Result<Vec<()>, String>>()?;
+    drawn.into_iter().collect::<Result<Vec<()>, _>>()?;
     let report = dir.join("report.png");
     sheet(plan, rows, &designs, top, &read)?.write_png(&report)?;
     let json = dir.join("results.json");
-    write_atomic(&json, &results_json(plan, rows, shard, top)).map_err(|e| e.to_string())?;
+    write_atomic(&json, &results_json(plan, rows, shard, top))?;
     Ok(vec![
         dir.join("results.csv"),
         json,
@@ -60,9 +86,8 @@ pub fn write_run(
     summary: &mut RunSummary,
     result: &DrawingResult,
     tooling: &Tooling,
-) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+) -> Result<Vec<PathBuf>, PublishError> {
+    std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
     let ctx = MapContext {
         scene: &summary.scene,
         verdict: &summary.verdict,
@@ -74,7 +99,7 @@ pub fn write_run(
     let tension = dir.join("tension.png");
     maps::tension_map(result, &ctx, summary.break_tension_n).write_png(&tension)?;
     let vtu_path = dir.join("result.vtu");
-    vtu::write_vtu(result, &vtu_path)?;
+    std::fs::write(&vtu_path, vtu_string(result)).map_err(io(&vtu_path, "write the VTU file"))?;
     let json = dir.join("summary.json");
     let written = vec![json.clone(), shear, tension, vtu_path];
     for (kind, path) in ["summary", "shear_map", "tension_map", "vtu"]
@@ -86,19 +111,16 @@ pub fn write_run(
             .insert(kind.to_string(), path.display().to_string());
     }
     let text = serde_json::to_string_pretty(&*summary).expect("the summary is plain data");
-    std::fs::write(&json, text + "\n")
-        .map_err(|e| format!("{}: cannot write the summary: {e}", json.display()))?;
+    std::fs::write(&json, text + "\n").map_err(io(&json, "write the summary"))?;
     Ok(written)
 }
 
 /// Writes `dir/figure6.csv` and `dir/figure6.png` (creating `dir`); returns the paths written.
-pub fn write_figure6(params: CellParams, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+pub fn write_figure6(params: CellParams, dir: &Path) -> Result<Vec<PathBuf>, PublishError> {
+    std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
     let rows = figure6_table(params, 121);
     let csv = dir.join("figure6.csv");
-    std::fs::write(&csv, figure6_csv(&rows))
-        .map_err(|e| format!("{}: cannot write: {e}", csv.display()))?;
+    std::fs::write(&csv, figure6_csv(&rows)).map_err(io(&csv, "write"))?;
     let png = dir.join("figure6.png");
     figure6_chart(&rows).write_png(&png)?;
     Ok(vec![csv, png])

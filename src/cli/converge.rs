@@ -93,9 +93,7 @@ pub fn exec(args: ConvergeArgs) -> Result<(), CliError> {
     std::fs::write(&csv_path, report::csv(&mesh, &steps))
         .map_err(|e| CliError::failed(format!("{}: {e}", csv_path.display())))?;
     let png = args.out.join("converge.png");
-    report::chart(&mesh, &steps)
-        .write_png(&png)
-        .map_err(CliError::failed)?;
+    report::chart(&mesh, &steps).write_png(&png)?;
     println!("wrote {} and {}", csv_path.display(), png.display());
     Ok(())
 }

@@ -1,6 +1,8 @@
 //! The command line's one error: a message for stderr and the exit code it ends with (after
 //! cargo's `CliError`).
 
+use wovenform::publish::PublishError;
+use wovenform::report::error::DrawError;
 use wovenform::scene::SceneError;
 use wovenform::study::sweep::{StoreError, SweepError};
 
@@ -32,9 +34,10 @@ impl CliError {
 
 impl From<SweepError> for CliError {
     fn from(e: SweepError) -> CliError {
-        match e {
-            SweepError::BadInput(m) => CliError::bad_input(m),
-            SweepError::Run(m) => CliError::failed(m),
+        if e.is_bad_input() {
+            CliError::bad_input(e.to_string())
+        } else {
+            CliError::failed(e.to_string())
         }
     }
 }
@@ -47,6 +50,18 @@ impl From<SceneError> for CliError {
 
 impl From<StoreError> for CliError {
     fn from(e: StoreError) -> CliError {
+        CliError::failed(e.to_string())
+    }
+}
+
+impl From<PublishError> for CliError {
+    fn from(e: PublishError) -> CliError {
+        CliError::failed(e.to_string())
+    }
+}
+
+impl From<DrawError> for CliError {
+    fn from(e: DrawError) -> CliError {
         CliError::failed(e.to_string())
     }
 }

@@ -27,13 +27,15 @@ pub struct FitArgs {
 
 pub fn exec(args: FitArgs) -> Result<(), CliError> {
     let scene = args.scene.load()?;
-    let samples = fitting::read_samples(&args.data).map_err(CliError::bad_input)?;
+    let samples =
+        fitting::read_samples(&args.data).map_err(|e| CliError::bad_input(e.to_string()))?;
     let options = FitOptions {
         fit_c: args.fit_c,
         ..FitOptions::default()
     };
     let start = scene.to_cell_params();
-    let result = fitting::fit(&samples, start, options).map_err(CliError::bad_input)?;
+    let result = fitting::fit(&samples, start, options)
+        .map_err(|e| CliError::bad_input(format!("{}: {e}", args.data.display())))?;
     let p = result.params;
     println!("fit of {}", args.data.display());
     println!("A = {:.6} mm", p.a);
@@ -54,7 +56,7 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
             _ => PathBuf::from("."),
         },
     };
-    let png = write_png(&dir, &samples, &result, &args.data).map_err(CliError::failed)?;
+    let png = write_png(&dir, &samples, &result, &args.data)?;
     println!("{}", png.display());
     if !result.converged {
         return Err(CliError::failed(format!(
@@ -70,9 +72,10 @@ fn write_png(
     samples: &[fitting::Sample],
     result: &fitting::FitResult,
     data: &Path,
-) -> Result<PathBuf, String> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+) -> Result<PathBuf, CliError> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        CliError::failed(format!("{}: cannot create the folder: {e}", dir.display()))
+    })?;
     let name = data
         .file_name()
         .unwrap_or(data.as_os_str())

@@ -72,7 +72,7 @@ pub fn exec(args: LawArgs) -> Result<(), CliError> {
             .out
             .as_deref()
             .expect("clap requires --out with --curves");
-        let written = write_figure6(params, out).map_err(CliError::failed)?;
+        let written = write_figure6(params, out)?;
         for path in written {
             println!("{}", path.display());
         }

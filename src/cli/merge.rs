@@ -26,8 +26,7 @@ pub fn exec(args: MergeArgs) -> Result<(), CliError> {
     let start = std::time::Instant::now();
     let pool = sweep::pool(args.jobs)?;
     let (plan, mut outcome) = sweep::merge(&args.dirs, &args.out)?;
-    outcome.files = publish::sweep_report(&plan, &args.out, &outcome.rows, None, &pool)
-        .map_err(CliError::failed)?;
+    outcome.files = publish::sweep_report(&plan, &args.out, &outcome.rows, None, &pool)?;
     outcome.wall_s = start.elapsed().as_secs_f64();
     eprintln!(
         "merged {} folders: {}",

@@ -60,7 +60,7 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
     bar.finish_and_clear();
     let mut summary = RunSummary::new(&name, &scene, &result, wall_s);
     let dir = args.out.unwrap_or_else(|| Path::new("out").join(&name));
-    write_run(&dir, &mut summary, &result, &problem.tooling).map_err(CliError::failed)?;
+    write_run(&dir, &mut summary, &result, &problem.tooling)?;
     if args.json {
         println!("{}", summary.to_json());
     } else {

@@ -63,7 +63,7 @@ pub fn exec(args: SweepArgs) -> Result<(), CliError> {
     let pool = sweep::pool(args.jobs)?;
     let drawn = publish::sweep_report(&plan, &args.out, &outcome.rows, args.shard, &pool);
     bar.finish_and_clear();
-    outcome.files = drawn.map_err(CliError::failed)?;
+    outcome.files = drawn?;
     outcome.wall_s = start.elapsed().as_secs_f64();
     print_outcome(&plan, &outcome);
     let per_min = if outcome.run_wall_s > 0.0 {

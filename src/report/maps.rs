@@ -8,6 +8,7 @@
 //! cells over the limit are outlined in black, so they cannot be missed. The colour bar marks
 //! the limit with a line and its value; the die opening is drawn dashed.
 
+use super::error::DrawError;
 use std::path::Path;
 
 use plotters::prelude::*;
@@ -212,10 +213,9 @@ impl FieldMap {
     }
 
     /// Draws the map to a PNG file. Errors name the file.
-    pub fn write_png(&self, path: &Path) -> Result<(), String> {
+    pub fn write_png(&self, path: &Path) -> Result<(), DrawError> {
         register_fonts();
-        let fail =
-            |e: &dyn std::fmt::Display| format!("{}: cannot draw the map: {e}", path.display());
+        let fail = DrawError::at(path, "map");
         let root = BitMapBackend::new(path, self.size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
         self.draw(&root).map_err(|e| fail(&e))?;

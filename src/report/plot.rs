@@ -11,6 +11,7 @@
 //! chart.write_png(std::path::Path::new("out/chart.png")).unwrap();
 //! ```
 
+use super::error::DrawError;
 use std::path::Path;
 use std::sync::Once;
 
@@ -217,10 +218,9 @@ impl LineChart {
     }
 
     /// Draws the chart to a PNG file. Errors name the file.
-    pub fn write_png(&self, path: &Path) -> Result<(), String> {
+    pub fn write_png(&self, path: &Path) -> Result<(), DrawError> {
         register_fonts();
-        let fail =
-            |e: &dyn std::fmt::Display| format!("{}: cannot draw the chart: {e}", path.display());
+        let fail = DrawError::at(path, "chart");
         let root = BitMapBackend::new(path, self.size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
         self.draw_into(&root).map_err(|e| fail(&e))?;
@@ -476,7 +476,7 @@ mod tests {
             Colour::nth(0),
         ));
         let bad = Path::new("/nonexistent-dir-for-wovenform/chart.png");
-        let e = chart.write_png(bad).unwrap_err();
+        let e = chart.write_png(bad).unwrap_err().to_string();
         assert!(
             e.contains("/nonexistent-dir-for-wovenform/chart.png"),
             "{e}"

@@ -20,6 +20,7 @@
 //! The maps are drawn with [`super::maps::colour_of`], the scale of the single-design maps:
 //! pale to dark blue up to the locking angle, magenta past it.
 
+use super::error::DrawError;
 use std::path::Path;
 
 use plotters::prelude::*;
@@ -130,10 +131,9 @@ impl Sheet {
     }
 
     /// Draws the sheet to a PNG file. Errors name the file.
-    pub fn write_png(&self, path: &Path) -> Result<(), String> {
+    pub fn write_png(&self, path: &Path) -> Result<(), DrawError> {
         register_fonts();
-        let fail =
-            |e: &dyn std::fmt::Display| format!("{}: cannot draw the sheet: {e}", path.display());
+        let fail = DrawError::at(path, "sheet");
         let size = self.size();
         let root = BitMapBackend::new(path, size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;

@@ -8,7 +8,6 @@
 //! `displacement` (final − initial position, mm).
 
 use std::fmt::Write as _;
-use std::path::Path;
 
 use super::mirror::MirroredMesh;
 use crate::core::drawing::DrawingResult;
@@ -108,10 +107,4 @@ fn open_array(s: &mut String, ty: &str, name: &str, components: usize) {
 
 fn close_array(s: &mut String) {
     s.push_str("        </DataArray>\n");
-}
-
-/// Writes the VTU file. Errors name the file.
-pub fn write_vtu(result: &DrawingResult, path: &Path) -> Result<(), String> {
-    std::fs::write(path, vtu_string(result))
-        .map_err(|e| format!("{}: cannot write the VTU file: {e}", path.display()))
 }

@@ -83,6 +83,7 @@ pub fn start_export(from: PathBuf, to: PathBuf, tx: Sender<Message>) {
                 .and_then(|(plan, outcome)| {
                     let pool = sweep::pool(None).map_err(|e| e.to_string())?;
                     crate::publish::sweep_report(&plan, &to, &outcome.rows, None, &pool)
+                        .map_err(|e| e.to_string())
                 });
             let _ = tx.send(Message::Exported(result));
         })

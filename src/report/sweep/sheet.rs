@@ -13,13 +13,13 @@ use crate::verdict::Verdict;
 pub const SHEET_TILES: usize = 81;
 
 /// The report sheet of a sweep; `field` gives a design's stored field (the caller reads it).
-pub fn sheet(
+pub fn sheet<E>(
     plan: &Plan,
     rows: &[Row],
     designs: &[Design],
     top: f64,
-    field: &dyn Fn(&Row) -> Result<StoredField, String>,
-) -> Result<Sheet, String> {
+    field: &dyn Fn(&Row) -> Result<StoredField, E>,
+) -> Result<Sheet, E> {
     let (tiles, tiles_note) = tiles(plan, rows, designs, field)?;
     let (chart, chart_note) = shear_chart(plan, rows, designs);
     Ok(Sheet {
@@ -122,12 +122,12 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
 
 /// A tile per design (the first [`SHEET_TILES`] in grid order), and a note when not all are
 /// shown.
-fn tiles(
+fn tiles<E>(
     plan: &Plan,
     rows: &[Row],
     designs: &[Design],
-    field: &dyn Fn(&Row) -> Result<StoredField, String>,
-) -> Result<(Vec<Tile>, Option<String>), String> {
+    field: &dyn Fn(&Row) -> Result<StoredField, E>,
+) -> Result<(Vec<Tile>, Option<String>), E> {
     let missing = plan.len().saturating_sub(rows.len());
     let shown: Vec<&Row> = rows.iter().take(SHEET_TILES).collect();
     let tiles_note = if rows.len() > shown.len() || missing > 0 {

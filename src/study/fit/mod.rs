@@ -12,7 +12,7 @@ use crate::core::law::{CellLaw, CellParams};
 
 mod samples;
 
-pub use samples::{STRAIN_RANGE, Sample, parse_samples, read_samples};
+pub use samples::{Problem, STRAIN_RANGE, Sample, SamplesError, parse_samples, read_samples};
 
 /// What to identify.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,16 +104,29 @@ impl Model<'_> {
     }
 }
 
+/// Why the law cannot be fitted to the data.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum FitError {
+    #[error("the linear yarn law (fabric.undulation = false) has no A or B to identify")]
+    LinearLaw,
+    #[error(
+        "{points} data points give {} residuals: at least {} are needed to identify {parameters} parameters",
+        2 * points,
+        parameters + 1
+    )]
+    TooFewPoints { points: usize, parameters: usize },
+    #[error("the fit diverged (non-finite residuals)")]
+    Diverged,
+}
+
 /// Fits `A`, `B` (and `C` with `options.fit_c`) to the samples, starting from `start`.
 pub fn fit(
     samples: &[Sample],
     start: CellParams,
     options: FitOptions,
-) -> Result<FitResult, String> {
+) -> Result<FitResult, FitError> {
     if !start.undulation {
-        return Err(
-            "the linear yarn law (fabric.undulation = false) has no A or B to identify".into(),
-        );
+        return Err(FitError::LinearLaw);
     }
     let model = Model {
         start,
@@ -123,12 +136,10 @@ pub fn fit(
     };
     let n_par = if options.fit_c { 3 } else { 2 };
     if 2 * samples.len() <= n_par {
-        return Err(format!(
-            "{} data points give {} residuals: at least {} are needed to identify {n_par} parameters",
-            samples.len(),
-            2 * samples.len(),
-            n_par + 1
-        ));
+        return Err(FitError::TooFewPoints {
+            points: samples.len(),
+            parameters: n_par,
+        });
     }
     let mut x = model.initial();
     let mut r = model.residuals(&x);
@@ -187,7 +198,7 @@ pub fn fit(
     let params = model.params(&x);
     let rms_n = (r.norm_squared() / r.len() as f64).sqrt();
     if !rms_n.is_finite() {
-        return Err("the fit diverged (non-finite residuals)".into());
+        return Err(FitError::Diverged);
     }
     Ok(FitResult {
         params,

@@ -37,7 +37,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepErr
     } = gather(inputs)?;
     report.kept = rows.len();
     rows.sort_by_key(|r| r.index);
-    store::prepare_dir(out, &plan, None).map_err(|e| SweepError::BadInput(e.to_string()))?;
+    store::prepare_dir(out, &plan, None).map_err(SweepError::Folder)?;
     for row in rows.iter().filter(|r| r.map.is_some()) {
         let from = StoredField::path(&sources[&row.design], &row.design);
         let to = StoredField::path(out, &row.design);
@@ -51,7 +51,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepErr
             })?;
         }
     }
-    let csv = store::write_rows(out, &plan, &rows).map_err(|e| SweepError::Run(e.to_string()))?;
+    let csv = store::write_rows(out, &plan, &rows).map_err(SweepError::Store)?;
     let outcome = Outcome {
         missing: plan.len().saturating_sub(rows.len()),
         rows,
@@ -114,7 +114,7 @@ fn gather(inputs: &[PathBuf]) -> Result<Gathered, SweepError> {
                 lock.plan.sweep_file
             )));
         }
-        let (found, r) = store::read_rows(dir, plan).map_err(|e| SweepError::Run(e.to_string()))?;
+        let (found, r) = store::read_rows(dir, plan).map_err(SweepError::Store)?;
         report.truncated += r.truncated;
         report.foreign += r.foreign;
         report.no_field += r.no_field;

@@ -52,11 +52,32 @@ pub use shard::Shard;
 pub use store::{ReadReport, StoreError, read_lock, write_atomic};
 pub use values::{as_number, fnv_hex, show_value, unit_of};
 
-/// Why a sweep did not go through: bad input (exit 2) or a failure while running (exit 1).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+/// Why a sweep did not go through: bad input, found before any work (exit 2), or a failure
+/// while running (exit 1).
+#[derive(Debug, thiserror::Error)]
 pub enum SweepError {
+    /// The sweep file, an option or the output folder is not what was expected.
     #[error("{0}")]
     BadInput(String),
+    /// The base scene breaks a bound or does not parse.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    /// The output folder could not be prepared before any work.
+    #[error(transparent)]
+    Folder(StoreError),
+    /// The output folder could not be read or written while running.
+    #[error(transparent)]
+    Store(#[from] StoreError),
     #[error("{0}")]
     Run(String),
+}
+
+impl SweepError {
+    /// Bad input (the user can fix it before any work), rather than a failure while running.
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            SweepError::BadInput(_) | SweepError::Scene(_) | SweepError::Folder(_)
+        )
+    }
 }

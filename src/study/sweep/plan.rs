@@ -120,8 +120,7 @@ impl Plan {
         }
         let base = BaseText::of(path, doc)?;
         let overrides = parse_sets(sets)?;
-        let base_scene = Scene::from_toml_str(&base.text, &base.origin, &overrides)
-            .map_err(|e| SweepError::BadInput(e.to_string()))?;
+        let base_scene = Scene::from_toml_str(&base.text, &base.origin, &overrides)?;
         let scene_table = toml::Table::try_from(&base_scene)
             .map_err(|e| SweepError::Run(format!("cannot tabulate the base scene: {e}")))?;
         let axes = axes_of(doc, &scene_table).map_err(bad)?;
@@ -291,7 +290,7 @@ pub(super) fn parse_sets(sets: &[String]) -> Result<Vec<Override>, SweepError> {
     sets.iter()
         .map(|s| s.parse::<Override>())
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| SweepError::BadInput(e.to_string()))
+        .map_err(SweepError::Scene)
 }
 
 /// The values of one `[sweep]` entry: a list, a range, or one value.
@@ -433,7 +432,7 @@ pub(super) mod tests {
             ("[scene]\n", "expected a [sweep] table"),
         ] {
             let e = plan_of(text).unwrap_err();
-            assert!(matches!(e, SweepError::BadInput(_)), "{text}");
+            assert!(e.is_bad_input(), "{text}");
             assert!(e.to_string().contains(must), "{text}: {e}");
             assert!(e.to_string().contains("s.toml"), "{text}: {e}");
         }

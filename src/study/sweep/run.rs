@@ -300,7 +300,7 @@ fn earlier_rows(
             plan.base_file.as_deref().unwrap_or("the inline scene"),
         )));
     }
-    store::read_rows(dir, plan).map_err(|e| SweepError::Run(e.to_string()))
+    store::read_rows(dir, plan).map_err(SweepError::Store)
 }
 
 /// Prepares the folder and writes `results.csv` anew with the rows kept (a half-written line
@@ -311,7 +311,7 @@ fn open_rows(
     shard: Option<Shard>,
     kept: &[Row],
 ) -> Result<fs::File, SweepError> {
-    store::prepare_dir(dir, plan, shard).map_err(|e| SweepError::BadInput(e.to_string()))?;
+    store::prepare_dir(dir, plan, shard).map_err(SweepError::Folder)?;
     let path = store::write_rows(dir, plan, kept).map_err(|e| {
         SweepError::BadInput(format!(
             "{}: cannot write the output folder: {e}",

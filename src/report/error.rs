@@ -1,0 +1,28 @@
+//! Why a picture could not be drawn.
+
+use std::path::PathBuf;
+
+/// A picture (`what`: chart, map, sheet) that could not be drawn to its file.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: cannot draw the {what}: {message}", path.display())]
+pub struct DrawError {
+    pub path: PathBuf,
+    pub what: &'static str,
+    /// What the plotting library said.
+    pub message: String,
+}
+
+impl DrawError {
+    /// The error maker for the picture `what` at `path`.
+    pub fn at(
+        path: &std::path::Path,
+        what: &'static str,
+    ) -> impl Fn(&dyn std::fmt::Display) -> DrawError {
+        let path = path.to_path_buf();
+        move |e| DrawError {
+            path: path.clone(),
+            what,
+            message: e.to_string(),
+        }
+    }
+}
