@@ -179,8 +179,14 @@ fn law_curves_write_the_figure6_csv_and_png() {
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("k,eps1,eps2,t11_n,t22_n"));
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|f| f.parse::<f64>().unwrap()).collect())
+    let rows: Vec<Vec<f64>> = csv::Reader::from_reader(text.as_bytes())
+        .records()
+        .map(|r| {
+            r.unwrap()
+                .iter()
+                .map(|f| f.parse::<f64>().unwrap())
+                .collect()
+        })
         .collect();
     assert_eq!(rows.len(), 4 * 121);
     for (i, k) in [1.0, 2.0, 4.0, f64::INFINITY].into_iter().enumerate() {

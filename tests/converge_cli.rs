@@ -29,10 +29,9 @@ fn a_small_ladder_writes_its_table_and_chart() {
     assert!(out.status.success(), "{}{}", stdout, text(&out.stderr));
     println!("{stdout}");
     let csv = std::fs::read_to_string(dir.path().join("conv/converge.csv")).unwrap();
-    let rows: Vec<Vec<&str>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect())
+    let rows: Vec<Vec<String>> = csv::Reader::from_reader(csv.as_bytes())
+        .records()
+        .map(|r| r.unwrap().iter().map(String::from).collect())
         .collect();
     assert_eq!(rows.len(), 5, "{csv}");
     assert_eq!(rows.iter().filter(|r| r[0] == "mesh").count(), 3);
@@ -46,12 +45,12 @@ fn a_small_ladder_writes_its_table_and_chart() {
     // Every error is a finite number. The max shear's reference is the finest rung of each
     // ladder (README, "Error against run time"): its error is the distance to that rung's
     // shear, to the printed precision (4 decimals).
-    let err = |r: &Vec<&str>, k: usize| r[12 + k].parse::<f64>().unwrap();
+    let err = |r: &Vec<String>, k: usize| r[12 + k].parse::<f64>().unwrap();
     assert!(
         rows.iter().all(|r| (0..4).all(|k| err(r, k).is_finite())),
         "{csv}"
     );
-    let shear = |r: &Vec<&str>| r[8].parse::<f64>().unwrap();
+    let shear = |r: &Vec<String>| r[8].parse::<f64>().unwrap();
     for ladder in [&rows[..3], &rows[3..]] {
         let finest = shear(ladder.last().unwrap());
         for r in ladder {

@@ -58,39 +58,26 @@ fn sweep(dir: &Path, file: &Path, out: &str, extra: &[&str]) -> Output {
     o
 }
 
-/// The rows of a results.csv, each a map column → value, and the header.
+/// The rows of a results.csv, each a map column → value, and the header (read with the csv
+/// crate, which knows RFC 4180 quoting).
 fn read_csv(path: &Path) -> (Vec<String>, Vec<BTreeMap<String, String>>) {
     let s = std::fs::read_to_string(path).unwrap();
     assert!(s.ends_with('\n'), "the last row is complete");
-    let mut lines = s.lines();
-    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines
-        .map(|l| {
-            let fields = split_csv(l);
-            assert_eq!(fields.len(), header.len(), "{l}");
-            header.iter().cloned().zip(fields).collect()
+    let mut reader = csv::Reader::from_reader(s.as_bytes());
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    let rows = reader
+        .records()
+        .map(|r| {
+            let r = r.unwrap();
+            assert_eq!(r.len(), header.len(), "{r:?}");
+            header
+                .iter()
+                .cloned()
+                .zip(r.iter().map(String::from))
+                .collect()
         })
         .collect();
     (header, rows)
-}
-
-/// Splits a CSV line with quoted fields.
-fn split_csv(line: &str) -> Vec<String> {
-    let mut out = vec![String::new()];
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', true) if chars.peek() == Some(&'"') => {
-                out.last_mut().unwrap().push('"');
-                chars.next();
-            }
-            ('"', _) => quoted = !quoted,
-            (',', false) => out.push(String::new()),
-            (c, _) => out.last_mut().unwrap().push(c),
-        }
-    }
-    out
 }
 
 /// Rows by design id, without the columns that change from run to run.

@@ -308,21 +308,15 @@ pub fn dof_scaling(sizes_mm: &[f64]) -> (Vec<(usize, f64)>, f64) {
 /// into a temporary folder.
 pub fn sweep_throughput(jobs: usize) -> Result<f64, String> {
     let plan = explorer_sweep(&Accuracy::Coarse.overrides()).map_err(|e| e.to_string())?;
-    let dir = std::env::temp_dir().join(format!(
-        "wovenform-bench-{}-{jobs}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0)
-    ));
+    let dir = tempfile::Builder::new()
+        .prefix("wovenform-bench-")
+        .tempdir()
+        .map_err(|e| format!("cannot make a temporary folder: {e}"))?;
     let options = crate::study::sweep::Options {
         jobs: Some(jobs),
         ..Default::default()
     };
-    let outcome =
-        crate::study::sweep::run(&plan, &dir, &options, &|_| {}).map_err(|e| e.to_string());
-    let _ = std::fs::remove_dir_all(&dir);
-    let outcome = outcome?;
+    let outcome = crate::study::sweep::run(&plan, dir.path(), &options, &|_| {})
+        .map_err(|e| e.to_string())?;
     Ok(outcome.ran as f64 / outcome.run_wall_s * 60.0)
 }

@@ -1,7 +1,7 @@
 //! `results.json`: the sweep's plan, counts, error level and every row, as one JSON document.
 
 use crate::accuracy::Accuracy;
-use crate::study::sweep::{Plan, Row, Shard, counts, csv_header};
+use crate::study::sweep::{Plan, Row, Shard, column_names, counts};
 
 /// The text of `results.json`; `top` is the common colour scale's top, degrees.
 pub fn results_json(plan: &Plan, rows: &[Row], shard: Option<Shard>, top: f64) -> String {
@@ -20,7 +20,7 @@ pub fn results_json(plan: &Plan, rows: &[Row], shard: Option<Shard>, top: f64) -
         "designs": plan.len(),
         "shard": shard.map(|s| s.to_string()),
         "shard_rule": "design index modulo N (shard I/N runs the indices i with i % N == I - 1)",
-        "columns": csv_header(&plan.columns()).split(',').collect::<Vec<_>>(),
+        "columns": column_names(&plan.columns()),
         "counts": {
             "feasible": c.feasible,
             "infeasible": c.infeasible,

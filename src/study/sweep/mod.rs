@@ -46,7 +46,7 @@ pub use field::StoredField;
 pub use grid::{Column, Design};
 pub use merge::merge;
 pub use plan::{Axis, Plan, SHORT_NAMES};
-pub use rows::{Counts, FIGURE_COLUMNS, Row, counts, csv_header};
+pub use rows::{Counts, FIGURE_COLUMNS, Row, column_names, counts, csv_header};
 pub use run::{Options, Outcome, Progress, pool, run};
 pub use shard::Shard;
 pub use store::{ReadReport, StoreError, read_lock, write_atomic};

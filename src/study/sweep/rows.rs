@@ -91,11 +91,15 @@ fn csv_line(fields: &[String]) -> String {
     String::from_utf8(w.into_inner().expect("writing to memory")).expect("UTF-8 in, UTF-8 out")
 }
 
-/// The header of `results.csv`.
+/// The names of the columns of `results.csv`: the parameters, then [`FIGURE_COLUMNS`].
+pub fn column_names(columns: &[Column]) -> Vec<String> {
+    let names = columns.iter().map(|c| c.name.clone());
+    names.chain(FIGURE_COLUMNS.map(String::from)).collect()
+}
+
+/// The header of `results.csv` (without its newline).
 pub fn csv_header(columns: &[Column]) -> String {
-    let mut names: Vec<&str> = columns.iter().map(|c| c.name.as_str()).collect();
-    names.extend(FIGURE_COLUMNS);
-    names.join(",")
+    csv_line(&column_names(columns)).trim_end().to_string()
 }
 
 impl Row {
@@ -279,10 +283,14 @@ mod tests {
             .next()
             .unwrap()
             .unwrap();
-        let header_line = csv_header(&cols);
-        let names: Vec<&str> = header_line.split(',').collect();
+        let names = column_names(&cols);
         assert_eq!(fields.len(), names.len());
-        let header: HashMap<&str, usize> = names.iter().enumerate().map(|(i, h)| (*h, i)).collect();
+        assert_eq!(csv_header(&cols), names.join(","));
+        let header: HashMap<&str, usize> = names
+            .iter()
+            .enumerate()
+            .map(|(i, h)| (h.as_str(), i))
+            .collect();
         let grid: HashMap<&str, &Design> = d.iter().map(|d| (d.id.as_str(), d)).collect();
         let back = Row::from_csv(&header, &fields, &p, &cols, &grid).unwrap();
         row.failure = Some("a, \"quoted\" reason".into());
