@@ -9,9 +9,25 @@ pub use crate::summary::RunSummary;
 impl RunSummary {
     /// The summary as text with units, for a person.
     pub fn to_text(&self) -> String {
+        let mut out = String::new();
+        self.write_inputs(&mut out);
+        let _ = writeln!(out);
+        let _ = writeln!(out, "verdict      {}", self.verdict);
+        if let Some(f) = &self.failure {
+            let _ = writeln!(out, "failure      {f}");
+        }
+        if self.converged || self.steps > 0 {
+            self.write_figures(&mut out);
+        }
+        // Else nothing was solved: no figures to show.
+        self.write_footer(&mut out);
+        out
+    }
+
+    /// The scene as run: tools, process, blank and mesh.
+    fn write_inputs(&self, out: &mut String) {
         let s = &self.inputs;
         let t = &s.tools;
-        let mut out = String::new();
         let tools = match t.kind {
             ToolKind::Box => format!(
                 "box punch {} × {} mm, r = {} mm, rp = {} mm; die rm = {} mm, clearance {} mm",
@@ -48,16 +64,10 @@ impl RunSummary {
             self.elements,
             self.dofs
         );
-        let _ = writeln!(out);
-        let _ = writeln!(out, "verdict      {}", self.verdict);
-        if let Some(f) = &self.failure {
-            let _ = writeln!(out, "failure      {f}");
-        }
-        if !self.converged && self.steps == 0 {
-            // Nothing was solved: no figures to show.
-            self.write_footer(&mut out);
-            return out;
-        }
+    }
+
+    /// The figures of the run with their units, limits and errors.
+    fn write_figures(&self, out: &mut String) {
         let [x, y, z] = self.max_shear_at;
         let _ = writeln!(
             out,
@@ -111,8 +121,6 @@ impl RunSummary {
                 self.inputs.mesh.element_size
             ),
         };
-        self.write_footer(&mut out);
-        out
     }
 
     /// The terms left out and the files written.

@@ -10,7 +10,7 @@ use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
 
 use crate::study::sweep::StoredField;
 
-use super::app::App;
+use super::app::{App, Entry};
 use super::shear_map::{ShearMap, colour, shade};
 use super::view::{Styles, verdict_cell};
 
@@ -68,70 +68,7 @@ pub(super) fn render_detail(app: &App, area: Rect, buf: &mut Buffer, st: &Styles
         Paragraph::new("no design selected").render(inner, buf);
         return;
     };
-    let plan = &app.table_plan;
-    let locking = plan.base_scene.fabric.locking_angle_deg;
-    let breaking = plan.base_scene.fabric.break_tension_n;
-    let accuracy = app.params.accuracy;
-    let err = accuracy.error();
-    let mut lines = vec![Line::styled(
-        format!(
-            "design {} · {}",
-            entry.design.index,
-            plan.label_lines(&entry.design).join(" · ")
-        ),
-        st.title(),
-    )];
-    match entry.row.as_ref() {
-        None => lines.push(Line::styled(
-            if app.running() {
-                "not finished yet"
-            } else {
-                "not run: r runs the sweep"
-            },
-            st.dim(),
-        )),
-        Some(r) => {
-            let (word, style) = verdict_cell(Some(r), app, st);
-            let mut verdict = vec![Span::styled(word, style)];
-            if let Some(f) = &r.failure {
-                verdict.push(Span::raw(format!(": {f}")));
-            }
-            lines.push(Line::from(verdict));
-            if let Some(s) = r.max_shear_deg {
-                lines.push(Line::from(vec![
-                    Span::raw("max shear "),
-                    Span::styled(
-                        format!("{s:.1}°"),
-                        if s > locking { st.bad() } else { st.good() },
-                    ),
-                    Span::raw(format!(" ±{:.1}° (locking {locking}°)", err.max_shear_deg)),
-                ]));
-            }
-            if let Some(t) = r.max_tension_n {
-                lines.push(Line::from(vec![
-                    Span::raw("max yarn tension "),
-                    Span::styled(
-                        format!("{t:.0} N"),
-                        if t > breaking { st.bad() } else { st.good() },
-                    ),
-                    Span::raw(format!(" (break {breaking} N)")),
-                ]));
-            }
-            if let Some(f) = r.punch_force_n {
-                lines.push(Line::raw(format!(
-                    "punch force {:.2} kN ±{:.1} %",
-                    f / 1000.0,
-                    err.punch_force_pct
-                )));
-            }
-            if let Some(w) = r.wall_s {
-                lines.push(Line::raw(format!(
-                    "run time {w:.1} s at {accuracy} ({} mm elements)",
-                    accuracy.element_size_mm()
-                )));
-            }
-        }
-    }
+    let mut lines = figure_lines(app, entry, st);
     let text_height = lines.len() as u16;
     let field: Option<&StoredField> = match app.selected_field() {
         Some(Ok(f)) => Some(f),
@@ -154,11 +91,83 @@ pub(super) fn render_detail(app: &App, area: Rect, buf: &mut Buffer, st: &Styles
     Paragraph::new(lines)
         .wrap(Wrap { trim: true })
         .render(text_area, buf);
-    let Some(field) = field else { return };
-    if map_area.height < 5 {
-        return;
+    if let Some(field) = field
+        && map_area.height >= 5
+    {
+        render_field(app, field, map_area, buf, st);
     }
-    let [map, bar] = Layout::vertical([Constraint::Min(2), Constraint::Length(3)]).areas(map_area);
+}
+
+/// The design's label, verdict and figures with their errors and limits.
+fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
+    let plan = &app.table_plan;
+    let mut lines = vec![Line::styled(
+        format!(
+            "design {} · {}",
+            entry.design.index,
+            plan.label_lines(&entry.design).join(" · ")
+        ),
+        st.title(),
+    )];
+    let Some(r) = entry.row.as_ref() else {
+        let why = if app.running() {
+            "not finished yet"
+        } else {
+            "not run: r runs the sweep"
+        };
+        lines.push(Line::styled(why, st.dim()));
+        return lines;
+    };
+    let locking = plan.base_scene.fabric.locking_angle_deg;
+    let breaking = plan.base_scene.fabric.break_tension_n;
+    let accuracy = app.params.accuracy;
+    let err = accuracy.error();
+    let (word, style) = verdict_cell(Some(r), app, st);
+    let mut verdict = vec![Span::styled(word, style)];
+    if let Some(f) = &r.failure {
+        verdict.push(Span::raw(format!(": {f}")));
+    }
+    lines.push(Line::from(verdict));
+    if let Some(s) = r.max_shear_deg {
+        lines.push(Line::from(vec![
+            Span::raw("max shear "),
+            Span::styled(
+                format!("{s:.1}°"),
+                if s > locking { st.bad() } else { st.good() },
+            ),
+            Span::raw(format!(" ±{:.1}° (locking {locking}°)", err.max_shear_deg)),
+        ]));
+    }
+    if let Some(t) = r.max_tension_n {
+        lines.push(Line::from(vec![
+            Span::raw("max yarn tension "),
+            Span::styled(
+                format!("{t:.0} N"),
+                if t > breaking { st.bad() } else { st.good() },
+            ),
+            Span::raw(format!(" (break {breaking} N)")),
+        ]));
+    }
+    if let Some(f) = r.punch_force_n {
+        lines.push(Line::raw(format!(
+            "punch force {:.2} kN ±{:.1} %",
+            f / 1000.0,
+            err.punch_force_pct
+        )));
+    }
+    if let Some(w) = r.wall_s {
+        lines.push(Line::raw(format!(
+            "run time {w:.1} s at {accuracy} ({} mm elements)",
+            accuracy.element_size_mm()
+        )));
+    }
+    lines
+}
+
+/// The design's shear map, its caption and the colour bar.
+fn render_field(app: &App, field: &StoredField, area: Rect, buf: &mut Buffer, st: &Styles) {
+    let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
+    let [map, bar] = Layout::vertical([Constraint::Min(2), Constraint::Length(3)]).areas(area);
     let (quads, values) = crate::report::sweep::full_blank(field);
     let top = values.iter().copied().fold(1.1 * locking, f64::max);
     let max_at = field

@@ -287,10 +287,41 @@ fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
 
 fn render_table(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let visible = app.visible();
+    let (header, widths) = table_header(app);
+    let rows: Vec<TableRow> = visible
+        .iter()
+        .map(|&i| table_row(app, &app.entries[i], st))
+        .collect();
+    let focused = app.focus == Focus::Results;
+    let title = format!(
+        " Results: {} of {} designs{} ",
+        visible.len(),
+        app.entries.len(),
+        if app.feasible_only {
+            ", feasible only"
+        } else {
+            ""
+        }
+    );
+    let block =
+        Block::bordered()
+            .title(title)
+            .border_style(if focused { st.title() } else { st.dim() });
+    let table = Table::new(rows, widths)
+        .header(TableRow::new(header).style(st.title()))
+        .column_spacing(1)
+        .block(block)
+        .row_highlight_style(if focused { st.selected() } else { st.dim() });
+    let mut state = TableState::default();
+    if !visible.is_empty() {
+        state.select(Some(app.selected.min(visible.len() - 1)));
+    }
+    StatefulWidget::render(table, area, buf, &mut state);
+}
+
+/// The table's header (the sorted column marked ↑ or ↓) and column widths.
+fn table_header(app: &App) -> (Vec<String>, Vec<Constraint>) {
     let params = app.table_plan.columns();
-    let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
-    let breaking = app.table_plan.base_scene.fabric.break_tension_n;
-    let err = app.params.accuracy.error().max_shear_deg;
     let sorted = |i: usize, name: &str| {
         if app.sort.column == i {
             format!("{name}{}", if app.sort.descending { "↓" } else { "↑" })
@@ -331,64 +362,41 @@ fn render_table(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
         Constraint::Length(5),
         Constraint::Length(4),
     ]);
-    let rows: Vec<TableRow> = visible
-        .iter()
-        .map(|&i| {
-            let e: &Entry = &app.entries[i];
-            let r = e.row.as_ref();
-            let mut cells = vec![Cell::from(format!("{}", e.design.index))];
-            cells.extend(e.params.iter().map(|(_, v)| Cell::from(show_value(v))));
-            let shear = r.and_then(|r| r.max_shear_deg);
-            let tension = r.and_then(|r| r.max_tension_n);
-            let over = |v: Option<f64>, limit: f64| {
-                if v.is_some_and(|v| v > limit) {
-                    st.bad()
-                } else {
-                    Style::default()
-                }
-            };
-            cells.push(Cell::from(fixed(shear, 1)).style(over(shear, locking)));
-            cells.push(Cell::from(fixed(tension, 0)).style(over(tension, breaking)));
-            cells.push(Cell::from(fixed(
-                r.and_then(|r| r.punch_force_n).map(|f| f / 1000.0),
-                2,
-            )));
-            let (word, style) = verdict_cell(r, app, st);
-            cells.push(Cell::from(word).style(style));
-            cells.push(Cell::from(fixed(r.and_then(|r| r.wall_s), 1)));
-            cells.push(Cell::from(if shear.is_some() {
-                format!("{err:.1}")
-            } else {
-                String::new()
-            }));
-            TableRow::new(cells)
-        })
-        .collect();
-    let focused = app.focus == Focus::Results;
-    let title = format!(
-        " Results: {} of {} designs{} ",
-        visible.len(),
-        app.entries.len(),
-        if app.feasible_only {
-            ", feasible only"
+    (header, widths)
+}
+
+/// One design's row: its values, figures (over a limit in red), verdict, run time and error.
+fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
+    let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
+    let breaking = app.table_plan.base_scene.fabric.break_tension_n;
+    let err = app.params.accuracy.error().max_shear_deg;
+    let r = e.row.as_ref();
+    let mut cells = vec![Cell::from(format!("{}", e.design.index))];
+    cells.extend(e.params.iter().map(|(_, v)| Cell::from(show_value(v))));
+    let shear = r.and_then(|r| r.max_shear_deg);
+    let tension = r.and_then(|r| r.max_tension_n);
+    let over = |v: Option<f64>, limit: f64| {
+        if v.is_some_and(|v| v > limit) {
+            st.bad()
         } else {
-            ""
+            Style::default()
         }
-    );
-    let block =
-        Block::bordered()
-            .title(title)
-            .border_style(if focused { st.title() } else { st.dim() });
-    let table = Table::new(rows, widths)
-        .header(TableRow::new(header).style(st.title()))
-        .column_spacing(1)
-        .block(block)
-        .row_highlight_style(if focused { st.selected() } else { st.dim() });
-    let mut state = TableState::default();
-    if !visible.is_empty() {
-        state.select(Some(app.selected.min(visible.len() - 1)));
-    }
-    StatefulWidget::render(table, area, buf, &mut state);
+    };
+    cells.push(Cell::from(fixed(shear, 1)).style(over(shear, locking)));
+    cells.push(Cell::from(fixed(tension, 0)).style(over(tension, breaking)));
+    cells.push(Cell::from(fixed(
+        r.and_then(|r| r.punch_force_n).map(|f| f / 1000.0),
+        2,
+    )));
+    let (word, style) = verdict_cell(r, app, st);
+    cells.push(Cell::from(word).style(style));
+    cells.push(Cell::from(fixed(r.and_then(|r| r.wall_s), 1)));
+    cells.push(Cell::from(if shear.is_some() {
+        format!("{err:.1}")
+    } else {
+        String::new()
+    }));
+    TableRow::new(cells)
 }
 
 fn render_gauge(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
