@@ -331,6 +331,33 @@ fn fit_recovers_a_and_b_from_synthetic_curves() {
 }
 
 #[test]
+fn fit_reads_what_law_curves_writes() {
+    // The law's own curves, written with A = 0.05 mm and B = 0.3 1/N over the paper's fabric,
+    // fitted from the paper's values: the fit must come back to 0.05 and 0.3 (one naming of
+    // the columns, t11_n and t22_n, on both sides).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("law");
+    let o = wovenform(&[
+        "law",
+        "--curves",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "fabric.a=0.05",
+        "--set",
+        "fabric.b=0.3",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "stderr: {}", stderr(&o));
+    let csv = out.join("figure6.csv");
+    let o = wovenform(&["fit", csv.to_str().unwrap()]);
+    let text = stdout(&o);
+    assert_eq!(o.status.code(), Some(0), "{text}\nstderr: {}", stderr(&o));
+    assert!((reported(&text, "A") / 0.05 - 1.0).abs() < 1e-4, "{text}");
+    assert!((reported(&text, "B") / 0.3 - 1.0).abs() < 1e-4, "{text}");
+    assert!(reported(&text, "RMS residual") < 1e-3, "{text}");
+}
+
+#[test]
 fn fit_bad_data_exits_2_naming_file_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
     let file = |name: &str, text: &str| {

@@ -141,33 +141,41 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
+/// What every design of a run shares.
+struct Job<'a> {
+    plan: &'a Plan,
+    columns: &'a [Column],
+    /// The output folder.
+    dir: &'a Path,
+    stop: Option<&'a AtomicBool>,
+}
+
+impl Job<'_> {
+    fn stopped(&self) -> bool {
+        self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
+    }
+}
+
 /// Runs one valid design: solve (single-threaded), its field file, its row; `None` when
 /// stopped on request before the end.
-fn run_design(
-    plan: &Plan,
-    columns: &[Column],
-    design: &Design,
-    scene: &Scene,
-    dir: &Path,
-    stop: Option<&AtomicBool>,
-) -> Option<Row> {
+fn run_design(job: &Job, design: &Design, scene: &Scene) -> Option<Row> {
     let mut problem = scene.to_problem();
     problem.solver.parallel = false;
-    let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
     let start = std::time::Instant::now();
     let result = drawing::solve_until(&problem, &mut |_| {
-        if stopped() {
+        if job.stopped() {
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
         }
     });
-    if stopped() {
+    if job.stopped() {
         return None;
     }
     let summary = RunSummary::new(&design.id, scene, &result, start.elapsed().as_secs_f64());
-    let mut row = Row::from_summary(plan, columns, design, &summary);
-    if let Err(e) = StoredField::of_run(design, &summary, &result, &problem.tooling).write(dir) {
+    let mut row = Row::from_summary(job.plan, job.columns, design, &summary);
+    let field = StoredField::of_run(design, &summary, &result, &problem.tooling);
+    if let Err(e) = field.write(job.dir) {
         row.map = None;
         let note = format!("the field was not saved: {e}");
         row.failure = Some(match row.failure.take() {
@@ -227,15 +235,20 @@ pub fn run(
         sink.push(row);
     }
     let run_start = Instant::now();
-    let stop = options.stop.as_deref();
+    let job = Job {
+        plan,
+        columns: &columns,
+        dir,
+        stop: options.stop.as_deref(),
+    };
     pool.install(|| {
         valid.par_iter().with_max_len(1).for_each(|(d, scene)| {
-            if let Some(row) = run_guarded(plan, &columns, d, scene, dir, stop) {
+            if let Some(row) = run_guarded(&job, d, scene) {
                 sink.push(row);
             }
         });
     });
-    let stopped = stop.is_some_and(|s| s.load(Ordering::Relaxed));
+    let stopped = job.stopped();
     let run_wall_s = run_start.elapsed().as_secs_f64();
     let state = sink.state.into_inner().unwrap_or_else(|e| e.into_inner());
     if let Some(e) = state.error {
@@ -325,20 +338,13 @@ fn open_rows(
 }
 
 /// Runs one design unless stopped; a panic in the program becomes a FAILED row that says so.
-fn run_guarded(
-    plan: &Plan,
-    columns: &[Column],
-    design: &Design,
-    scene: &Scene,
-    dir: &Path,
-    stop: Option<&AtomicBool>,
-) -> Option<Row> {
-    if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+fn run_guarded(job: &Job, design: &Design, scene: &Scene) -> Option<Row> {
+    if job.stopped() {
         return None;
     }
     let t = Instant::now();
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        run_design(plan, columns, design, scene, dir, stop)
+        run_design(job, design, scene)
     }))
     .unwrap_or_else(|payload| {
         let reason = format!(
@@ -346,6 +352,6 @@ fn run_guarded(
             panic_message(&*payload)
         );
         let wall = t.elapsed().as_secs_f64();
-        Some(Row::failed(plan, columns, design, reason, wall))
+        Some(Row::failed(job.plan, job.columns, design, reason, wall))
     })
 }
