@@ -3,24 +3,31 @@
 //!
 //! # Layout and data flow
 //!
-//! Data flows one way, and each layer only uses the ones before it:
+//! Data flows one way:
 //!
 //! ```text
 //! scene ──► core ──► study ──► report ──► publish / cli / tui
 //! (input)  (numerics) (drives the core)  (draws, formats)  (files, terminal, a person)
 //! ```
 //!
-//! - [`core`]: pure numerics (the woven-cell law, the membrane element, the Newton solver, the
-//!   tools and their contact, the drawing problem). No files, no terminal, no serde, no clock.
-//! - [`scene`]: the TOML scene a user writes, checked against physical bounds, turned into a
-//!   [`core::drawing::DrawingProblem`]. [`presets`] are the scenes the binary carries.
-//! - [`summary`], [`verdict`], [`accuracy`]: what one run came to, the one feasibility rule, and
-//!   the error each accuracy level carries. [`machine`]: what this machine can hold.
-//! - [`study`]: the studies that drive the core — a sweep of designs (its plan, grid, rows,
-//!   output folder, parallel run and merge), the convergence study, the law's fit, the benchmark.
-//! - [`report`]: pictures and text made from plain data; it reads no file.
-//! - [`publish`]: writes what `report` draws into a run's or a sweep's folder.
-//! - [`tui`]: the terminal explorer; the command line (`src/cli/`) lives in the binary.
+//! and each module below uses only the modules listed before it:
+//!
+//! 1. [`core`]: pure numerics (the woven-cell law, the membrane element, the Newton solver, the
+//!    tools and their contact, the drawing problem). No files, no terminal, no serde, no clock.
+//! 2. [`machine`]: what this machine can hold (its memory), asked before a mesh is allocated.
+//! 3. [`scene`]: the TOML scene a user writes, checked against physical bounds (and against
+//!    the machine), turned into a [`core::drawing::DrawingProblem`].
+//! 4. [`accuracy`], [`verdict`], [`summary`]: the error each accuracy level carries, the one
+//!    feasibility rule, what one run came to.
+//! 5. [`study`]: the studies that drive the core — a sweep of designs (its plan, grid, rows,
+//!    output folder with its lock and resume, parallel run and merge), the convergence study,
+//!    the law's fit, the benchmark. A sweep keeps its rows and fields in its folder as it goes,
+//!    so that an interrupted sweep loses nothing.
+//! 6. [`presets`]: the scenes and the explorer's sweep that the binary carries.
+//! 7. [`report`]: pictures and text made from plain data; it reads no file (it writes the
+//!    PNGs it draws).
+//! 8. [`publish`]: writes what `report` makes into a run's or a sweep's folder.
+//! 9. [`tui`]: the terminal explorer. The command line (`src/cli/`) lives in the binary.
 pub mod accuracy;
 pub mod core;
 pub mod machine;

@@ -1,6 +1,7 @@
 //! Writes what `report` draws and formats into files: a run's maps, VTU and `summary.json`;
 //! a sweep folder's maps on the sweep's common colour scale (`maps/<id>.png`), report sheet
-//! (`report.png`) and `results.json`; the paper's Figure 6. The studies leave their results
+//! (`report.png`) and `results.json`; the paper's Figure 6; the convergence study's CSV and
+//! chart; the fit's chart. The studies leave their results
 //! (and a sweep its rows and fields) as plain data or in their folder; this reads and writes.
 
 use std::path::{Path, PathBuf};
@@ -9,11 +10,15 @@ use rayon::prelude::*;
 
 use crate::core::drawing::{DrawingResult, Tooling};
 use crate::core::law::CellParams;
+use crate::report::converge;
 use crate::report::error::DrawError;
 use crate::report::figure6::{figure6_chart, figure6_csv, figure6_table};
+use crate::report::fit::fit_chart;
 use crate::report::maps::{self, MapContext};
 use crate::report::sweep::{design_label, field_map, results_json, shared_scale_max, sheet};
 use crate::report::vtu::vtu_string;
+use crate::study::converge::Ladder;
+use crate::study::fit::{FitResult, Sample};
 use crate::study::sweep::{Plan, Row, Shard, StoreError, StoredField, write_atomic};
 use crate::summary::RunSummary;
 
@@ -124,4 +129,34 @@ pub fn write_figure6(params: CellParams, dir: &Path) -> Result<Vec<PathBuf>, Pub
     let png = dir.join("figure6.png");
     figure6_chart(&rows).write_png(&png)?;
     Ok(vec![csv, png])
+}
+
+/// Writes `dir/converge.csv` and `dir/converge.png` (`dir` exists); returns their paths.
+pub fn write_converge(
+    dir: &Path,
+    mesh: &Ladder,
+    steps: &Ladder,
+) -> Result<[PathBuf; 2], PublishError> {
+    let csv = dir.join("converge.csv");
+    std::fs::write(&csv, converge::csv(mesh, steps)).map_err(io(&csv, "write"))?;
+    let png = dir.join("converge.png");
+    converge::chart(mesh, steps).write_png(&png)?;
+    Ok([csv, png])
+}
+
+/// Writes `dir/fit.png` (creating `dir`): the data named `data_name` against the fitted law.
+pub fn write_fit(
+    dir: &Path,
+    samples: &[Sample],
+    result: &FitResult,
+    data_name: &str,
+) -> Result<PathBuf, PublishError> {
+    std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
+    let title = format!(
+        "Fit of {data_name}: A = {:.4} mm, B = {:.3} 1/N, RMS {:.2} N",
+        result.params.a, result.params.b, result.rms_n
+    );
+    let png = dir.join("fit.png");
+    fit_chart(samples, result, &title).write_png(&png)?;
+    Ok(png)
 }

@@ -1,6 +1,6 @@
 //! The summary of one drawing run: the figures a user checks, with units in their names, and
 //! the verdict on them (from [`crate::verdict`]). `wovenform run --json` prints it; the sweep
-//! makes a row of it; `report::summary` writes it out as text and files.
+//! makes a row of it; `report::summary` writes it as text, `publish` into files.
 
 use std::collections::BTreeMap;
 
@@ -23,6 +23,9 @@ pub struct RunSummary {
     pub feasible: bool,
     /// The verdict in a few words (also in the maps' titles).
     pub verdict: String,
+    /// The verdict itself (the rule's answer; `verdict` says it in words).
+    #[serde(skip)]
+    pub judged: Verdict,
     /// Largest |shear angle|, degrees, and where (final position of the element's centre, mm,
     /// in the solved part).
     pub max_shear_deg: f64,
@@ -95,7 +98,8 @@ impl RunSummary {
             stroke_reached_mm: result.stroke_reached_mm,
             stroke_mm: scene.process.stroke,
         };
-        let feasible = Verdict::judge(&facts) == Verdict::Feasible;
+        let judged = Verdict::judge(&facts);
+        let feasible = judged == Verdict::Feasible;
         let verdict = Verdict::sentence(&facts);
         let level = Accuracy::of_element_size(scene.mesh.element_size);
         let max_shear_at = if result.shear_deg.is_empty() {
@@ -109,6 +113,7 @@ impl RunSummary {
             failure: result.failure.as_ref().map(|f| f.to_string()),
             feasible,
             verdict,
+            judged,
             max_shear_deg,
             max_shear_at,
             locking_angle_deg: locking,
@@ -161,4 +166,12 @@ pub fn what_is_drawn(result: &DrawingResult, stroke_mm: f64) -> String {
         )
     };
     format!("deformed blank seen from above, {part}, {stroke}; dashed: die opening")
+}
+
+/// The subtitle of a shear map of the run.
+pub fn shear_subtitle(result: &DrawingResult, stroke_mm: f64) -> String {
+    format!(
+        "Shear angle of the yarns: {}",
+        what_is_drawn(result, stroke_mm)
+    )
 }

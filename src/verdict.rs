@@ -8,7 +8,8 @@
 
 use serde::{Deserialize, Serialize};
 
-/// The verdict on one design.
+/// The verdict on one design. Verdicts order best first (feasible, infeasible, failed,
+/// invalid): rankings sort by it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "UPPERCASE")]
 pub enum Verdict {
@@ -176,6 +177,7 @@ mod tests {
 
     #[test]
     fn words_round_trip() {
+        assert!(Verdict::ALL.windows(2).all(|w| w[0] < w[1]), "best first");
         for v in Verdict::ALL {
             assert_eq!(Verdict::parse(v.word()), Some(v));
         }

@@ -1,7 +1,7 @@
 //! `wovenform converge` on a small ladder: the CSV has a row per rung with its errors, the
 //! chart is written, and the errors shrink towards the reference (the reference being the
 //! finest rung or a Richardson extrapolation, whose formula is checked on a known limit in
-//! `src/converge.rs`).
+//! `src/study/converge.rs`).
 
 mod common;
 

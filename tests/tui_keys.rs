@@ -244,3 +244,46 @@ fn a_field_is_read_when_its_design_is_selected_and_drawing_reads_no_file() {
     assert!(s.contains("shear, max 58.9° at (30, 30) mm"), "{s}");
     assert!(!s.contains("no map"), "{s}");
 }
+
+#[test]
+fn a_swept_locking_angle_is_each_designs_own_limit() {
+    // Locking angles 55° and 65° swept over the open box: a design at 58° of shear is over the
+    // first (✗ shear, in red) and within the second; the verdict's reason must use the design's
+    // own limit, not the base scene's 60°.
+    let dir = tempfile::tempdir().unwrap();
+    let preset =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/paper-box-open.toml");
+    let sweep = dir.path().join("locking.toml");
+    std::fs::write(
+        &sweep,
+        format!(
+            "base = {:?}\n[sweep]\nfabric.locking_angle_deg = [55.0, 65.0]\n",
+            preset.display().to_string()
+        ),
+    )
+    .unwrap();
+    let source = wovenform::tui::source_of_file(&sweep).unwrap();
+    let mut app = App::new(
+        Parameters::new(source).unwrap(),
+        PathBuf::from("/session"),
+        false,
+    );
+    assert_eq!(app.entries.len(), 2);
+    assert_eq!(app.entries[0].limits[0], 55.0);
+    assert_eq!(app.entries[1].limits[0], 65.0);
+    app.on_key(key(KeyCode::Char('r')));
+    app.on_message(Message::Started { to_run: 2, kept: 0 });
+    // 58° and 300 N: over 55° (and under the 60° of the base scene), within 65°.
+    let mut over = row(&app, 0, (58.0, 300.0, 6000.0, 1.0));
+    over.verdict = wovenform::verdict::Verdict::Infeasible;
+    over.feasible = false;
+    over.map = None;
+    let mut within = row(&app, 1, (58.0, 300.0, 6000.0, 1.0));
+    within.map = None;
+    app.on_message(Message::Row(Box::new(over)));
+    app.on_message(Message::Row(Box::new(within)));
+    let s = screen(&app, 120, 30);
+    assert!(s.contains("✗ shear"), "{s}");
+    assert!(!s.contains("✗ tension"), "{s}");
+    assert!(s.contains("✓ feasible"), "{s}");
+}

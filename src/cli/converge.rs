@@ -8,6 +8,7 @@ use clap::Args;
 use super::CliError;
 use super::progress::stderr_bar;
 use super::scene_args::SceneArgs;
+use wovenform::publish;
 use wovenform::report::converge as report;
 use wovenform::study::converge as study;
 
@@ -89,11 +90,7 @@ pub fn exec(args: ConvergeArgs) -> Result<(), CliError> {
          s, f: the step ladder's)\n{}",
         report::text_chart(&mesh, &steps, 60, 14)
     );
-    let csv_path = args.out.join("converge.csv");
-    std::fs::write(&csv_path, report::csv(&mesh, &steps))
-        .map_err(|e| CliError::failed(format!("{}: {e}", csv_path.display())))?;
-    let png = args.out.join("converge.png");
-    report::chart(&mesh, &steps).write_png(&png)?;
+    let [csv_path, png] = publish::write_converge(&args.out, &mesh, &steps)?;
     println!("wrote {} and {}", csv_path.display(), png.display());
     Ok(())
 }

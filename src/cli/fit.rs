@@ -1,12 +1,12 @@
 //! `wovenform fit DATA.csv`: identify A and B (and C) from measured biaxial tension curves.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
 use super::CliError;
 use super::scene_args::SceneArgs;
-use wovenform::report::fit::fit_chart;
+use wovenform::publish;
 use wovenform::study::fit::{self as fitting, FitOptions};
 
 #[derive(Args, Debug)]
@@ -34,8 +34,14 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
         ..FitOptions::default()
     };
     let start = scene.to_cell_params();
-    let result = fitting::fit(&samples, start, options)
-        .map_err(|e| CliError::bad_input(format!("{}: {e}", args.data.display())))?;
+    let result = fitting::fit(&samples, start, options).map_err(|e| {
+        let message = format!("{}: {e}", args.data.display());
+        match e {
+            // The data and the scene were fine; the iterations were not.
+            fitting::FitError::Diverged => CliError::failed(message),
+            _ => CliError::bad_input(message),
+        }
+    })?;
     let p = result.params;
     println!("fit of {}", args.data.display());
     println!("A = {:.6} mm", p.a);
@@ -56,7 +62,8 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
             _ => PathBuf::from("."),
         },
     };
-    let png = write_png(&dir, &samples, &result, &args.data)?;
+    let name = args.data.file_name().unwrap_or(args.data.as_os_str());
+    let png = publish::write_fit(&dir, &samples, &result, &name.to_string_lossy())?;
     println!("{}", png.display());
     if !result.converged {
         return Err(CliError::failed(format!(
@@ -65,26 +72,4 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
         )));
     }
     Ok(())
-}
-
-fn write_png(
-    dir: &Path,
-    samples: &[fitting::Sample],
-    result: &fitting::FitResult,
-    data: &Path,
-) -> Result<PathBuf, CliError> {
-    std::fs::create_dir_all(dir).map_err(|e| {
-        CliError::failed(format!("{}: cannot create the folder: {e}", dir.display()))
-    })?;
-    let name = data
-        .file_name()
-        .unwrap_or(data.as_os_str())
-        .to_string_lossy();
-    let title = format!(
-        "Fit of {name}: A = {:.4} mm, B = {:.3} 1/N, RMS {:.2} N",
-        result.params.a, result.params.b, result.rms_n
-    );
-    let png = dir.join("fit.png");
-    fit_chart(samples, result, &title).write_png(&png)?;
-    Ok(png)
 }

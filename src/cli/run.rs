@@ -9,7 +9,7 @@ use super::CliError;
 use super::progress::stroke_bar;
 use super::scene_args::{SceneArgs, parse_accuracy, with_accuracy};
 use wovenform::accuracy::Accuracy;
-use wovenform::core::drawing;
+use wovenform::core::drawing::{self, DrawingFailure};
 use wovenform::publish::write_run;
 use wovenform::summary::RunSummary;
 
@@ -74,7 +74,8 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
         )));
     }
     if !result.converged {
-        let what = if summary.verdict.starts_with("NO ANSWER") {
+        let no_answer = matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_)));
+        let what = if no_answer {
             "the drawing has no answer"
         } else {
             "the drawing did not converge"

@@ -81,8 +81,8 @@ pub fn figure6_table(params: CellParams, points_per_curve: usize) -> Vec<Figure6
 /// The table as CSV with columns `k,eps1,eps2,t11_n,t22_n`.
 pub fn figure6_csv(rows: &[Figure6Row]) -> String {
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["k", "eps1", "eps2", "t11_n", "t22_n"])
-        .expect("writing to memory");
+    let header = std::iter::once("k").chain(crate::study::fit::COLUMNS);
+    w.write_record(header).expect("writing to memory");
     for r in rows {
         w.write_record([
             r.path.k_label().to_string(),

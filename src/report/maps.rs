@@ -149,7 +149,7 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
             Unit::Degrees.show(locking_angle_deg),
             ctx.verdict
         ),
-        subtitle: format!("Shear angle of the yarns: {}", what_is_drawn(result, ctx)),
+        subtitle: crate::summary::shear_subtitle(result, ctx.stroke_mm),
         quads,
         values,
         limit: locking_angle_deg,

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use crate::scene::ToolKind;
-pub use crate::summary::RunSummary;
+use crate::summary::RunSummary;
 
 impl RunSummary {
     /// The summary as text with units, for a person.

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use crate::study::sweep::{Design, Plan, Row, StoredField};
+use crate::study::sweep::{Design, Plan, Row, StoredField, counts};
 use crate::verdict::Verdict;
 
 use super::params::{Parameters, Target};
@@ -79,6 +79,9 @@ pub struct Entry {
     pub design: Design,
     pub params: Vec<(String, toml::Value)>,
     pub row: Option<Row>,
+    /// The design's own limits: the locking angle (°) and the break tension (N), which a
+    /// sweep may vary.
+    pub limits: [f64; 2],
 }
 
 /// The columns of the results table one can sort by, after the parameters.
@@ -130,12 +133,31 @@ pub struct App {
 
 fn entries_of(plan: &Plan) -> Vec<Entry> {
     let columns = plan.columns();
+    let fabric = &plan.base_scene.fabric;
+    let base = [fabric.locking_angle_deg, fabric.break_tension_n];
+    let swept = plan.axes.iter().any(|a| {
+        a.values.len() > 1
+            && matches!(
+                a.key.as_str(),
+                "fabric.locking_angle_deg" | "fabric.break_tension_n"
+            )
+    });
     plan.designs()
         .into_iter()
-        .map(|d| Entry {
-            params: plan.params(&columns, &d),
-            design: d,
-            row: None,
+        .map(|d| {
+            let limits = if swept {
+                plan.design_scene(&d).map_or(base, |s| {
+                    [s.fabric.locking_angle_deg, s.fabric.break_tension_n]
+                })
+            } else {
+                base
+            };
+            Entry {
+                params: plan.params(&columns, &d),
+                design: d,
+                row: None,
+                limits,
+            }
         })
         .collect()
 }
@@ -294,15 +316,8 @@ impl App {
 
     /// Counts over the table: (with a row, feasible).
     pub fn counts(&self) -> (usize, usize) {
-        let rows = self.entries.iter().filter_map(|e| e.row.as_ref());
-        let (mut done, mut feasible) = (0, 0);
-        for r in rows {
-            done += 1;
-            if r.verdict == Verdict::Feasible {
-                feasible += 1;
-            }
-        }
-        (done, feasible)
+        let rows: Vec<Row> = self.entries.iter().filter_map(|e| e.row.clone()).collect();
+        (rows.len(), counts(&rows).feasible)
     }
 
     /// Seconds left, from the pace of the designs finished in this run.

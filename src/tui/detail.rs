@@ -118,11 +118,10 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
         lines.push(Line::styled(why, st.dim()));
         return lines;
     };
-    let locking = plan.base_scene.fabric.locking_angle_deg;
-    let breaking = plan.base_scene.fabric.break_tension_n;
+    let [locking, breaking] = entry.limits;
     let accuracy = app.params.accuracy;
     let err = accuracy.error();
-    let (word, style) = verdict_cell(Some(r), app, st);
+    let (word, style) = verdict_cell(entry, app, st);
     let mut verdict = vec![Span::styled(word, style)];
     if let Some(f) = &r.failure {
         verdict.push(Span::raw(format!(": {f}")));
@@ -166,7 +165,7 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
 
 /// The design's shear map, its caption and the colour bar.
 fn render_field(app: &App, field: &StoredField, area: Rect, buf: &mut Buffer, st: &Styles) {
-    let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
+    let locking = field.locking_angle_deg;
     let [map, bar] = Layout::vertical([Constraint::Min(2), Constraint::Length(3)]).areas(area);
     let (quads, values) = crate::report::sweep::full_blank(field);
     let top = values.iter().copied().fold(1.1 * locking, f64::max);

@@ -92,6 +92,9 @@ pub fn explore(params: Parameters, session: PathBuf) -> Result<(), String> {
             "wovenform explorer: the rows of this session are kept in {} (wovenform merge DIR --out OUT exports one)",
             session.display()
         );
+    } else {
+        // Nothing was run: leave no empty session folder behind (it is removed only if empty).
+        let _ = std::fs::remove_dir(&session);
     }
     outcome
 }

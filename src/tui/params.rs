@@ -226,14 +226,9 @@ impl Parameters {
     /// The base scene's value of a key (what the typed values must look like).
     fn base_value(&self, key: &str) -> toml::Value {
         let table = toml::Table::try_from(&self.plan.base_scene).unwrap_or_default();
-        let mut v = toml::Value::Table(table);
-        for part in key.split('.') {
-            v = match v {
-                toml::Value::Table(mut t) => t.remove(part).unwrap_or(toml::Value::Float(0.0)),
-                _ => return toml::Value::Float(0.0),
-            };
-        }
-        v
+        crate::scene::lookup(&table, key)
+            .cloned()
+            .unwrap_or(toml::Value::Float(0.0))
     }
 
     /// Whether the base scene with `key = value` over it keeps its bounds: the scene's

@@ -14,7 +14,7 @@ use ratatui::widgets::{
     Widget, Wrap,
 };
 
-use crate::study::sweep::{Row, show_value};
+use crate::study::sweep::show_value;
 use crate::verdict::Verdict;
 
 use super::app::{App, Entry, Focus, Mode, RunState};
@@ -77,11 +77,11 @@ impl Styles {
 }
 
 /// The verdict in a word, its symbol and its style.
-pub(super) fn verdict_cell(row: Option<&Row>, app: &App, st: &Styles) -> (String, Style) {
-    let Some(r) = row else {
+pub(super) fn verdict_cell(entry: &Entry, app: &App, st: &Styles) -> (String, Style) {
+    let Some(r) = entry.row.as_ref() else {
         return (if app.running() { "…" } else { "·" }.into(), st.dim());
     };
-    let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
+    let [locking, _] = entry.limits;
     match r.verdict {
         Verdict::Feasible => ("✓ feasible".into(), st.good()),
         Verdict::Infeasible => {
@@ -367,8 +367,7 @@ fn table_header(app: &App) -> (Vec<String>, Vec<Constraint>) {
 
 /// One design's row: its values, figures (over a limit in red), verdict, run time and error.
 fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
-    let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
-    let breaking = app.table_plan.base_scene.fabric.break_tension_n;
+    let [locking, breaking] = e.limits;
     let err = app.params.accuracy.error().max_shear_deg;
     let r = e.row.as_ref();
     let mut cells = vec![Cell::from(format!("{}", e.design.index))];
@@ -388,7 +387,7 @@ fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
         r.and_then(|r| r.punch_force_n).map(|f| f / 1000.0),
         2,
     )));
-    let (word, style) = verdict_cell(r, app, st);
+    let (word, style) = verdict_cell(e, app, st);
     cells.push(Cell::from(word).style(style));
     cells.push(Cell::from(fixed(r.and_then(|r| r.wall_s), 1)));
     cells.push(Cell::from(if shear.is_some() {

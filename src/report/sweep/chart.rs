@@ -193,15 +193,19 @@ impl Points {
         let (lo, hi) = ys.fold((locking, locking), |(lo, hi), y| (lo.min(y), hi.max(y)));
         let pad = 0.12 * (hi - lo) + 1.0;
         chart.y_range = Some(((lo - pad).max(0.0), hi + pad));
+        let colour = |v: Verdict| {
+            let (r, g, b) = v.colour();
+            Colour(r, g, b)
+        };
         chart.push(Series::markers(
             "✓ feasible",
             self.feasible,
-            Colour(0, 150, 100),
+            colour(Verdict::Feasible),
         ));
         chart.push(Series::crosses(
             "✗ infeasible",
             self.infeasible,
-            Colour(213, 70, 0),
+            colour(Verdict::Infeasible),
         ));
         chart.legend_at = LegendAt::LowerLeft;
     }

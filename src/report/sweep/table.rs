@@ -3,23 +3,17 @@
 use std::fmt::Write as _;
 
 use crate::study::sweep::{Plan, Row, show_value, unit_of};
-use crate::verdict::Verdict;
 
 /// Rows on the sheet's ranking.
 pub(super) const RANKED_ON_SHEET: usize = 30;
 
 /// Feasible first, then infeasible, failed, invalid; by max shear within each.
 pub fn ranked(rows: &[Row]) -> Vec<&Row> {
-    let rank = |v: Verdict| match v {
-        Verdict::Feasible => 0,
-        Verdict::Infeasible => 1,
-        Verdict::Failed => 2,
-        Verdict::Invalid => 3,
-    };
     let mut sorted: Vec<&Row> = rows.iter().collect();
+    // `Verdict` orders best first.
     sorted.sort_by(|a, b| {
-        rank(a.verdict)
-            .cmp(&rank(b.verdict))
+        a.verdict
+            .cmp(&b.verdict)
             .then(
                 a.max_shear_deg
                     .unwrap_or(f64::INFINITY)

@@ -12,7 +12,9 @@ use crate::core::law::{CellLaw, CellParams};
 
 mod samples;
 
-pub use samples::{Problem, STRAIN_RANGE, Sample, SamplesError, parse_samples, read_samples};
+pub use samples::{
+    COLUMNS, Problem, STRAIN_RANGE, Sample, SamplesError, parse_samples, read_samples,
+};
 
 /// What to identify.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,7 +1,8 @@
 //! The measured curves a fit reads: a CSV with a header naming the columns
 //! `eps1,eps2,t11_n,t22_n` (any order, other columns ignored; the header `wovenform law
 //! --curves` writes), the fabric strains along warp and weft and the measured tensions per yarn
-//! (N). Blank lines and `#` comments are skipped. Read with the `csv` crate (RFC 4180 quoting).
+//! (N). Blank lines and `#` comments are skipped. Read with the `csv` crate, a record per line
+//! (quoted fields, but no line break inside one), so that errors give the file's line numbers.
 
 use std::path::Path;
 
@@ -19,7 +20,9 @@ pub struct Sample {
     pub line: usize,
 }
 
-const COLUMNS: [&str; 4] = ["eps1", "eps2", "t11_n", "t22_n"];
+/// The columns of measured curves: strains along warp and weft, tensions per yarn (N). The
+/// CSV that `law --curves` writes has them too (after its path number `k`).
+pub const COLUMNS: [&str; 4] = ["eps1", "eps2", "t11_n", "t22_n"];
 
 const EXPECTED: &str = "expected a header line naming the columns eps1,eps2,t11_n,t22_n (strains; tensions per yarn, N)";
 

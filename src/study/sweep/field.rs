@@ -11,7 +11,7 @@ use super::grid::Design;
 use super::rows::round_to;
 use super::store::{StoreError, write_atomic};
 use crate::core::drawing::{DrawingResult, Tooling};
-use crate::summary::{RunSummary, what_is_drawn};
+use crate::summary::{RunSummary, shear_subtitle};
 
 /// The shear field of one design, kept so that its map and its tile on the sheet can be
 /// drawn at the end on the sweep's common scale (and after a resume or a merge). The solved
@@ -74,10 +74,7 @@ impl StoredField {
             verdict: summary.verdict.clone(),
             max_shear_deg: summary.max_shear_deg,
             locking_angle_deg: summary.locking_angle_deg,
-            subtitle: format!(
-                "Shear angle of the yarns: {}",
-                what_is_drawn(result, summary.stroke_mm)
-            ),
+            subtitle: shear_subtitle(result, summary.stroke_mm),
             quarter: result.quarter,
             nodes: result
                 .positions

@@ -11,7 +11,7 @@ use super::grid::{Column, Design};
 use super::plan::Plan;
 use super::values::show_value;
 use crate::summary::RunSummary;
-use crate::verdict::{Facts, Verdict};
+use crate::verdict::Verdict;
 
 /// The columns of `results.csv` after the parameters, in order: the contract's figures, then
 /// the design's id, its verdict and why it failed or is invalid.
@@ -159,17 +159,7 @@ impl Row {
         design: &Design,
         s: &RunSummary,
     ) -> Row {
-        let verdict = Verdict::judge(&Facts {
-            converged: s.converged,
-            no_answer: false,
-            unsound: &s.unsound,
-            max_shear_deg: s.max_shear_deg,
-            max_tension_n: s.max_tension_n,
-            locking_angle_deg: s.locking_angle_deg,
-            break_tension_n: s.break_tension_n,
-            stroke_reached_mm: s.stroke_reached_mm,
-            stroke_mm: s.stroke_mm,
-        });
+        let verdict = s.judged;
         Row {
             design: design.id.clone(),
             index: design.index,

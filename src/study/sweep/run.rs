@@ -200,8 +200,8 @@ pub fn run(
     let columns = plan.columns();
     let designs = plan.designs();
     // Before any work: the earlier rows, the folder, the lock.
-    let (kept_rows, kept) = earlier_rows(plan, dir, options.resume)?;
-    let file = open_rows(plan, dir, options.shard, &kept_rows)?;
+    let (kept_rows, kept) = store::earlier_rows(plan, dir, options.resume)?;
+    let file = store::open_rows(plan, dir, options.shard, &kept_rows)?;
     let have: HashSet<&str> = kept_rows.iter().map(|r| r.design.as_str()).collect();
     let mine = |index: usize| options.shard.is_none_or(|s| s.contains(index));
     let mut valid = Vec::new();
@@ -278,63 +278,6 @@ pub fn run(
         files: vec![dir.join("results.csv")],
         stopped,
     })
-}
-
-/// The rows of an earlier run of this sweep in `dir` (with `--resume`); refuses a folder that
-/// holds rows without `--resume`, or rows of another base scene.
-fn earlier_rows(
-    plan: &Plan,
-    dir: &Path,
-    resume: bool,
-) -> Result<(Vec<Row>, ReadReport), SweepError> {
-    let csv_path = dir.join("results.csv");
-    if !csv_path.exists() {
-        return Ok((Vec::new(), ReadReport::default()));
-    }
-    if !resume {
-        return Err(SweepError::BadInput(format!(
-            "{} exists: add --resume to continue that sweep, or choose another --out",
-            csv_path.display()
-        )));
-    }
-    let lock = store::read_lock(dir).map_err(|e| {
-        SweepError::BadInput(format!(
-            "--resume: {e}; cannot tell which sweep {} belongs to (remove the folder, or use another --out)",
-            csv_path.display()
-        ))
-    })?;
-    if lock.base_hash != plan.base_hash {
-        return Err(SweepError::BadInput(format!(
-            "--resume: {} was swept with another base scene ({} with {}; now {} with {}): its rows cannot be reused; use another --out, or remove the folder to start again",
-            dir.display(),
-            lock.plan.sweep_file,
-            lock.plan.base_file.as_deref().unwrap_or("the inline scene"),
-            plan.sweep_file,
-            plan.base_file.as_deref().unwrap_or("the inline scene"),
-        )));
-    }
-    store::read_rows(dir, plan).map_err(SweepError::Store)
-}
-
-/// Prepares the folder and writes `results.csv` anew with the rows kept (a half-written line
-/// or a duplicate goes); returns it open for appending.
-fn open_rows(
-    plan: &Plan,
-    dir: &Path,
-    shard: Option<Shard>,
-    kept: &[Row],
-) -> Result<fs::File, SweepError> {
-    store::prepare_dir(dir, plan, shard).map_err(SweepError::Folder)?;
-    let path = store::write_rows(dir, plan, kept).map_err(|e| {
-        SweepError::BadInput(format!(
-            "{}: cannot write the output folder: {e}",
-            dir.display()
-        ))
-    })?;
-    fs::OpenOptions::new()
-        .append(true)
-        .open(&path)
-        .map_err(|e| SweepError::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
 /// Runs one design unless stopped; a panic in the program becomes a FAILED row that says so.

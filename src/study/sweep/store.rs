@@ -1,6 +1,6 @@
 //! The output folder of a sweep: `sweep.lock` (the plan, written before any work),
 //! `results.csv` (a row appended as each design finishes) and `fields/` (see [`super::field`]);
-//! reading them back for a resume or a merge.
+//! reading them back for a resume (and refusing a folder of another sweep) or a merge.
 
 use std::collections::{HashMap, HashSet};
 use std::fs;
@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::SweepError;
 use super::field::StoredField;
 use super::grid::Design;
 use super::plan::Plan;
@@ -209,4 +210,61 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
     }
     report.kept = rows.len();
     Ok((rows, report))
+}
+
+/// The rows of an earlier run of this sweep in `dir` (with `--resume`); refuses a folder that
+/// holds rows without `--resume`, or rows of another base scene.
+pub fn earlier_rows(
+    plan: &Plan,
+    dir: &Path,
+    resume: bool,
+) -> Result<(Vec<Row>, ReadReport), SweepError> {
+    let csv_path = dir.join("results.csv");
+    if !csv_path.exists() {
+        return Ok((Vec::new(), ReadReport::default()));
+    }
+    if !resume {
+        return Err(SweepError::BadInput(format!(
+            "{} exists: add --resume to continue that sweep, or choose another --out",
+            csv_path.display()
+        )));
+    }
+    let lock = read_lock(dir).map_err(|e| {
+        SweepError::BadInput(format!(
+            "--resume: {e}; cannot tell which sweep {} belongs to (remove the folder, or use another --out)",
+            csv_path.display()
+        ))
+    })?;
+    if lock.base_hash != plan.base_hash {
+        return Err(SweepError::BadInput(format!(
+            "--resume: {} was swept with another base scene ({} with {}; now {} with {}): its rows cannot be reused; use another --out, or remove the folder to start again",
+            dir.display(),
+            lock.plan.sweep_file,
+            lock.plan.base_file.as_deref().unwrap_or("the inline scene"),
+            plan.sweep_file,
+            plan.base_file.as_deref().unwrap_or("the inline scene"),
+        )));
+    }
+    read_rows(dir, plan).map_err(SweepError::Store)
+}
+
+/// Prepares the folder and writes `results.csv` anew with the rows kept (a half-written line
+/// or a duplicate goes); returns it open for appending.
+pub fn open_rows(
+    plan: &Plan,
+    dir: &Path,
+    shard: Option<Shard>,
+    kept: &[Row],
+) -> Result<fs::File, SweepError> {
+    prepare_dir(dir, plan, shard).map_err(SweepError::Folder)?;
+    let path = write_rows(dir, plan, kept).map_err(|e| {
+        SweepError::BadInput(format!(
+            "{}: cannot write the output folder: {e}",
+            dir.display()
+        ))
+    })?;
+    fs::OpenOptions::new()
+        .append(true)
+        .open(&path)
+        .map_err(|e| SweepError::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
