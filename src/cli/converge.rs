@@ -52,16 +52,8 @@ pub fn exec(args: ConvergeArgs) -> Result<(), CliError> {
     } else {
         args.steps.clone()
     };
-    if sizes.len() < 2 || sizes.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
-        return Err(CliError::bad_input(format!(
-            "--sizes {sizes:?}: expected two or more element sizes > 0 mm, coarse to fine"
-        )));
-    }
-    if counts.len() < 2 || counts.contains(&0) {
-        return Err(CliError::bad_input(format!(
-            "--steps {counts:?}: expected two or more step counts ≥ 1, few to many"
-        )));
-    }
+    study::check_sizes(&sizes).map_err(|e| CliError::bad_input(e.to_string()))?;
+    study::check_steps(&counts).map_err(|e| CliError::bad_input(e.to_string()))?;
     std::fs::create_dir_all(&args.out).map_err(|e| {
         CliError::bad_input(format!(
             "{}: cannot write the output folder: {e}",

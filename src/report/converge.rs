@@ -129,8 +129,8 @@ fn text_scatter(
     out
 }
 
-/// The rows of both ladders as CSV: each rung's figures and their errors against its ladder's
-/// reference.
+/// The rows of both ladders as CSV: each rung's figures and their error bounds against its
+/// ladder's reference (distance to it plus its uncertainty).
 pub fn csv(mesh: &Ladder, steps: &Ladder) -> String {
     let mut w = csv::Writer::from_writer(Vec::new());
     let header = [
@@ -190,7 +190,7 @@ pub fn table(mesh: &Ladder, steps: &Ladder) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{:<6} {:>7} {:>6} {:>6} {:>5} {:>6} {:>8}  {:>9} {:>8} {:>8} {:>8}   errors: {:>7} {:>7} {:>7} {:>7}",
+        "{:<6} {:>7} {:>6} {:>6} {:>5} {:>6} {:>8}  {:>9} {:>8} {:>8} {:>8}   error ≤ {:>7} {:>7} {:>7} {:>7}",
         "ladder",
         "h mm",
         "Δλ",
@@ -240,8 +240,14 @@ pub fn table(mesh: &Ladder, steps: &Ladder) -> String {
             .iter()
             .zip(&ladder.reference)
             .map(|(name, r)| match r.order {
-                Some(p) => format!("{name} {:.4} (Richardson, order {p:.2})", r.value),
-                None => format!("{name} {:.4} (the finest rung)", r.value),
+                Some(p) => format!(
+                    "{name} {:.4} ± {:.4} (Richardson, order {p:.2})",
+                    r.value, r.uncertainty
+                ),
+                None => format!(
+                    "{name} {:.4} ± {:.4} (the finest rung; ± the spread of the rungs before it)",
+                    r.value, r.uncertainty
+                ),
             })
             .collect();
         let _ = writeln!(
@@ -265,7 +271,7 @@ fn write_levels(out: &mut String, mesh: &Ladder) {
         {
             let _ = writeln!(
                 out,
-                "{level} ({} mm): max shear error {:.2}°, punch force error {:.2} %, {:.2} s on one core",
+                "{level} ({} mm): max shear error ≤ {:.2}°, punch force error ≤ {:.2} %, {:.2} s on one core",
                 level.element_size_mm(),
                 mesh.error(i, 0),
                 mesh.error(i, 1),

@@ -1,7 +1,14 @@
 //! The convergence study of `wovenform converge`: a scene solved on a ladder of mesh sizes and
-//! on a ladder of load-step counts; a reference from Richardson extrapolation of the three
-//! finest rungs (or the finest rung where the three are not monotone); each rung's error
-//! against it, next to its run time.
+//! on a ladder of load-step counts (at least three rungs each, coarse to fine, all distinct);
+//! a reference for each figure with its own uncertainty, and each rung's error against it,
+//! next to its run time.
+//!
+//! The reference is the Richardson extrapolation of the three finest rungs that converged,
+//! when they are monotone and an order in [0.2, 8] fits them; its uncertainty is the size of
+//! the correction the extrapolation made (the distance from the finest rung to the limit).
+//! Otherwise it is the finest rung, and its uncertainty the largest distance from it to the
+//! two rungs before it. A rung's error is its distance to the reference plus the reference's
+//! uncertainty: an error bound, never zero unless the rungs agree exactly.
 
 use crate::core::drawing::{self, DrawingProblem};
 use crate::scene::Scene;
@@ -31,12 +38,113 @@ pub struct Rung {
     pub figures: [f64; 4],
 }
 
-/// The reference of a ladder, per figure: the value and how it was had.
+/// The reference of a ladder, per figure: the value, how it was had, and how far it can be off.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Reference {
     pub value: f64,
     /// The observed order of convergence (Richardson), if the three finest rungs gave one.
     pub order: Option<f64>,
+    /// How far the reference itself can be off (the figure's unit): the extrapolation's last
+    /// correction, or the spread of the finest rungs. NaN when fewer than two rungs converged.
+    pub uncertainty: f64,
+}
+
+/// A ladder that cannot give a reference.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LadderError {
+    #[error("{option} {shown}: expected at least three rungs, {order}, e.g. {option} {example}")]
+    TooFew {
+        option: &'static str,
+        shown: String,
+        order: &'static str,
+        example: &'static str,
+    },
+    #[error(
+        "{option} {shown}: expected {order} (each rung {each} than the one before, no repeats), e.g. {option} {example}"
+    )]
+    NotOrdered {
+        option: &'static str,
+        shown: String,
+        order: &'static str,
+        each: &'static str,
+        example: &'static str,
+    },
+    #[error("{option} {shown}: expected {what}")]
+    OutOfRange {
+        option: &'static str,
+        shown: String,
+        what: &'static str,
+    },
+}
+
+fn shown<T: ToString>(values: &[T]) -> String {
+    values
+        .iter()
+        .map(T::to_string)
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// Checks a mesh ladder: three or more element sizes > 0 mm, strictly decreasing.
+pub fn check_sizes(sizes_mm: &[f64]) -> Result<(), LadderError> {
+    let (option, example) = ("--sizes", "5,3.5,2.5");
+    let order = "element sizes coarse to fine";
+    if sizes_mm.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return Err(LadderError::OutOfRange {
+            option,
+            shown: shown(sizes_mm),
+            what: "element sizes > 0 mm",
+        });
+    }
+    if sizes_mm.len() < 3 {
+        return Err(LadderError::TooFew {
+            option,
+            shown: shown(sizes_mm),
+            order,
+            example,
+        });
+    }
+    if sizes_mm.windows(2).any(|w| w[1] >= w[0]) {
+        return Err(LadderError::NotOrdered {
+            option,
+            shown: shown(sizes_mm),
+            order,
+            each: "smaller",
+            example,
+        });
+    }
+    Ok(())
+}
+
+/// Checks a step ladder: three or more step counts ≥ 1, strictly increasing.
+pub fn check_steps(counts: &[u32]) -> Result<(), LadderError> {
+    let (option, example) = ("--steps", "4,8,16");
+    let order = "step counts few to many";
+    if counts.contains(&0) {
+        return Err(LadderError::OutOfRange {
+            option,
+            shown: shown(counts),
+            what: "step counts ≥ 1",
+        });
+    }
+    if counts.len() < 3 {
+        return Err(LadderError::TooFew {
+            option,
+            shown: shown(counts),
+            order,
+            example,
+        });
+    }
+    if counts.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(LadderError::NotOrdered {
+            option,
+            shown: shown(counts),
+            order,
+            each: "larger",
+            example,
+        });
+    }
+    Ok(())
 }
 
 /// A ladder and its reference.
@@ -100,23 +208,32 @@ fn reference(rungs: &[Rung], size: impl Fn(&Rung) -> f64) -> Vec<Reference> {
                 return Reference {
                     value: f64::NAN,
                     order: None,
+                    uncertainty: f64::NAN,
                 };
             };
-            if ok.len() >= 3 {
-                let t = &ok[ok.len() - 3..];
-                if let Some((value, order)) = richardson(
-                    [size(t[0]), size(t[1]), size(t[2])],
-                    [t[0].figures[k], t[1].figures[k], t[2].figures[k]],
-                ) {
-                    return Reference {
-                        value,
-                        order: Some(order),
-                    };
-                }
+            let fine = finest.figures[k];
+            let last3 = &ok[ok.len().saturating_sub(3)..];
+            if let [a, b, c] = last3
+                && let Some((value, order)) = richardson(
+                    [size(a), size(b), size(c)],
+                    [a.figures[k], b.figures[k], c.figures[k]],
+                )
+            {
+                return Reference {
+                    value,
+                    order: Some(order),
+                    uncertainty: (fine - value).abs(),
+                };
             }
+            // No extrapolation: the finest rung, no better known than the spread before it.
+            let spread = last3[..last3.len() - 1]
+                .iter()
+                .map(|r| (r.figures[k] - fine).abs())
+                .fold(f64::NAN, f64::max);
             Reference {
-                value: finest.figures[k],
+                value: fine,
                 order: None,
+                uncertainty: spread,
             }
         })
         .collect()
@@ -160,14 +277,29 @@ pub fn step_ladder(scene: &Scene, counts: &[u32], progress: &mut dyn FnMut(&Rung
 }
 
 impl Ladder {
-    /// The error of rung `i` in figure `k`: degrees and millimetres as differences, forces and
-    /// tensions in % of the reference.
+    /// The error bound of rung `i` in figure `k`: its distance to the reference plus the
+    /// reference's uncertainty; degrees and millimetres as differences, forces and tensions in
+    /// % of the reference.
     pub fn error(&self, i: usize, k: usize) -> f64 {
-        let (v, r) = (self.rungs[i].figures[k], self.reference[k].value);
+        let v = self.rungs[i].figures[k];
+        let Reference {
+            value, uncertainty, ..
+        } = self.reference[k];
+        let bound = (v - value).abs() + uncertainty;
         if FIGURES[k].ends_with("_n") {
-            100.0 * (v - r).abs() / r.abs().max(1e-12)
+            100.0 * bound / value.abs().max(1e-12)
         } else {
-            (v - r).abs()
+            bound
+        }
+    }
+
+    /// The reference's uncertainty of figure `k`, in the unit of [`Ladder::error`].
+    pub fn reference_uncertainty(&self, k: usize) -> f64 {
+        let r = &self.reference[k];
+        if FIGURES[k].ends_with("_n") {
+            100.0 * r.uncertainty / r.value.abs().max(1e-12)
+        } else {
+            r.uncertainty
         }
     }
 }
@@ -185,5 +317,68 @@ mod tests {
         assert!((order - 1.7).abs() < 1e-9, "{order}");
         // Not monotone: no extrapolation.
         assert!(richardson(h, [1.0, 2.0, 1.5]).is_none());
+    }
+
+    fn rung(h: f64, shear: f64) -> Rung {
+        Rung {
+            ladder: "mesh",
+            element_size_mm: h,
+            max_step: 0.5,
+            dofs: 0,
+            steps: 0,
+            newton_iterations: 0,
+            wall_s: 1.0,
+            converged: true,
+            figures: [shear, 1000.0, 1.0, 100.0],
+        }
+    }
+
+    #[test]
+    fn no_rung_is_its_own_error_free_reference() {
+        // f(h) = 60 − 2 h^1.5 on h = 4, 2.5, 1.3: the limit 60; the finest rung's bound is
+        // twice its distance to it (distance + the extrapolation's correction).
+        let f = |h: f64| 60.0 - 2.0 * h.powf(1.5);
+        let rungs: Vec<Rung> = [4.0, 2.5, 1.3].iter().map(|&h| rung(h, f(h))).collect();
+        let refs = reference(&rungs, |r| r.element_size_mm);
+        let ladder = Ladder {
+            rungs,
+            reference: refs,
+        };
+        assert!((ladder.reference[0].value - 60.0).abs() < 1e-9);
+        let fine_distance = 2.0 * 1.3f64.powf(1.5);
+        assert!((ladder.error(2, 0) - 2.0 * fine_distance).abs() < 1e-9);
+        // Not monotone: the finest rung, with the spread of the rungs before it.
+        let rungs = vec![rung(4.0, 58.0), rung(2.5, 61.0), rung(1.3, 60.0)];
+        let refs = reference(&rungs, |r| r.element_size_mm);
+        let ladder = Ladder {
+            rungs,
+            reference: refs,
+        };
+        assert_eq!(ladder.reference[0].value, 60.0);
+        assert_eq!(ladder.reference[0].uncertainty, 2.0);
+        assert_eq!(ladder.error(2, 0), 2.0);
+        assert_eq!(ladder.error(0, 0), 4.0);
+    }
+
+    #[test]
+    fn ladders_must_go_coarse_to_fine_with_three_distinct_rungs() {
+        assert!(check_sizes(&[5.0, 3.5, 2.5]).is_ok());
+        assert!(check_steps(&[4, 8, 16]).is_ok());
+        for bad in [
+            &[6.0, 10.0, 12.0][..],
+            &[5.0, 5.0, 2.5],
+            &[5.0, 2.5],
+            &[5.0, -1.0, 0.5],
+        ] {
+            assert!(check_sizes(bad).is_err(), "{bad:?}");
+        }
+        for bad in [&[8, 4, 2][..], &[4, 4, 8], &[4, 8], &[0, 4, 8]] {
+            assert!(check_steps(bad).is_err(), "{bad:?}");
+        }
+        let e = check_sizes(&[6.0, 10.0, 12.0]).unwrap_err().to_string();
+        assert!(
+            e.starts_with("--sizes 6,10,12: expected element sizes coarse to fine"),
+            "{e}"
+        );
     }
 }
