@@ -51,6 +51,7 @@ pub struct RunSummary {
     pub accuracy: Option<String>,
     pub max_shear_err_deg: Option<f64>,
     pub punch_force_err_pct: Option<f64>,
+    pub max_tension_err_pct: Option<f64>,
     pub dofs: usize,
     /// Elements of the solved part, and which part was solved ("quarter" or "full").
     pub elements: usize,
@@ -87,6 +88,8 @@ impl RunSummary {
         } else {
             Vec::new()
         };
+        let level = Accuracy::of_element_size(scene.mesh.element_size);
+        let error = level.map(|a| a.error());
         let facts = Facts {
             converged: result.converged,
             no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_))),
@@ -95,13 +98,14 @@ impl RunSummary {
             max_tension_n,
             locking_angle_deg: locking,
             break_tension_n: breaking,
+            max_shear_err_deg: error.map_or(0.0, |e| e.max_shear_deg),
+            max_tension_err_pct: error.map_or(0.0, |e| e.max_tension_pct),
             stroke_reached_mm: result.stroke_reached_mm,
             stroke_mm: scene.process.stroke,
         };
         let judged = Verdict::judge(&facts);
         let feasible = judged == Verdict::Feasible;
         let verdict = Verdict::sentence(&facts);
-        let level = Accuracy::of_element_size(scene.mesh.element_size);
         let max_shear_at = if result.shear_deg.is_empty() {
             [0.0; 3]
         } else {
@@ -127,8 +131,9 @@ impl RunSummary {
             draw_in_mm: result.draw_in_mm,
             wall_s,
             accuracy: level.map(|a| a.name().to_string()),
-            max_shear_err_deg: level.map(|a| a.error().max_shear_deg),
-            punch_force_err_pct: level.map(|a| a.error().punch_force_pct),
+            max_shear_err_deg: error.map(|e| e.max_shear_deg),
+            punch_force_err_pct: error.map(|e| e.punch_force_pct),
+            max_tension_err_pct: error.map(|e| e.max_tension_pct),
             dofs: result.dofs,
             elements: result.mesh.quads.len(),
             solved_part: if result.quarter { "quarter" } else { "full" }.to_string(),

@@ -154,10 +154,12 @@ fn run_json_prints_the_fields_and_writes_the_files() {
     let (shear, limit) = (num(&m, "max_shear_deg"), num(&m, "locking_angle_deg"));
     let (tension, breaking) = (num(&m, "max_tension_n"), num(&m, "break_tension_n"));
     assert_eq!(limit, 60.0);
-    assert_eq!(
-        m["feasible"].as_bool().unwrap(),
-        analytic::feasible(shear, limit, tension, breaking)
+    let word = analytic::verdict_word(
+        (shear, num(&m, "max_shear_err_deg"), limit),
+        (tension, num(&m, "max_tension_err_pct"), breaking),
     );
+    assert_eq!(m["feasible"].as_bool().unwrap(), word == "FEASIBLE");
+    assert!(m["verdict"].as_str().unwrap().starts_with(word), "{m:?}");
     assert!(shear > 0.0 && shear < limit, "shear {shear}");
     assert!(num(&m, "punch_force_n") > 0.0);
     assert!((num(&m, "stroke_reached_mm") - 4.0).abs() < 1e-9);

@@ -101,7 +101,7 @@ fn rows_equal_run_one_row_per_design_and_invalid_designs_are_listed() {
     let (header, rows) = read_csv(&out.join("results.csv"));
     assert_eq!(
         header.join(","),
-        "r,rp,rm,friction,holder_pressure,max_shear_deg,max_tension_n,punch_force_n,feasible,converged,wall_s,map,design,verdict,failure"
+        "r,rp,rm,friction,holder_pressure,max_shear_deg,max_tension_n,punch_force_n,max_shear_err_deg,max_tension_err_pct,punch_force_err_pct,feasible,converged,wall_s,map,design,verdict,failure"
     );
     assert_eq!(rows.len(), 6, "one row per design");
     let ids: HashSet<&str> = rows.iter().map(|r| r["design"].as_str()).collect();
@@ -184,7 +184,7 @@ fn rows_equal_run_one_row_per_design_and_invalid_designs_are_listed() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("4 feasible, 0 infeasible, 0 failed, 2 invalid"),
+        stdout.contains("4 feasible, 0 marginal, 0 infeasible, 0 failed, 2 invalid"),
         "{stdout}"
     );
 }
@@ -345,7 +345,7 @@ fn a_failing_design_yields_its_row_and_the_others_go_on() {
     assert_eq!(ok["verdict"], "FEASIBLE", "{ok:?}");
     assert_eq!(ok["converged"], "true");
     assert_eq!(find("1", "1.5")["verdict"], "INVALID");
-    assert!(text(&o.stdout).contains("1 feasible, 0 infeasible, 1 failed, 2 invalid"));
+    assert!(text(&o.stdout).contains("1 feasible, 0 marginal, 0 infeasible, 1 failed, 2 invalid"));
 }
 
 #[test]

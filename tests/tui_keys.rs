@@ -16,7 +16,9 @@ use wovenform::tui::worker::Message;
 fn r_starts_the_grid_in_a_fresh_run_folder_and_not_twice() {
     let mut app = explorer(false);
     match app.on_key(key(KeyCode::Char('r'))) {
-        Command::Start { plan, dir, resume } => {
+        Command::Start {
+            plan, dir, resume, ..
+        } => {
             assert_eq!(plan.len(), 8);
             assert_eq!(dir, PathBuf::from("/session/run-1"));
             assert!(!resume);
@@ -109,7 +111,9 @@ fn editing_after_a_run_marks_the_table_as_the_previous_grid() {
     assert!(app.edited());
     assert_eq!(app.entries.len(), 8, "the results stay until the next run");
     match app.on_key(key(KeyCode::Char('r'))) {
-        Command::Start { plan, dir, resume } => {
+        Command::Start {
+            plan, dir, resume, ..
+        } => {
             assert_eq!(plan.len(), 16);
             assert_eq!(dir, PathBuf::from("/session/run-2"));
             assert!(!resume);
@@ -241,7 +245,7 @@ fn a_field_is_read_when_its_design_is_selected_and_drawing_reads_no_file() {
     std::fs::remove_dir_all(run.join("fields")).expect("the fields removed");
     let s = screen(&app, 160, 48);
     assert!(s.contains("design 7 · r 10, rp 15, rm 10 mm"), "{s}");
-    assert!(s.contains("shear, max 58.9° at (30, 30) mm"), "{s}");
+    assert!(s.contains("shear, max 58.5° at (30, 30) mm"), "{s}");
     assert!(!s.contains("no map"), "{s}");
 }
 
@@ -286,4 +290,41 @@ fn a_swept_locking_angle_is_each_designs_own_limit() {
     assert!(s.contains("✗ shear"), "{s}");
     assert!(!s.contains("✗ tension"), "{s}");
     assert!(s.contains("✓ feasible"), "{s}");
+}
+
+#[test]
+fn m_re_runs_only_the_marginal_designs_one_level_finer() {
+    let mut app = explorer(false);
+    // Nothing marginal yet: m says so and starts nothing.
+    assert!(matches!(app.on_key(key(KeyCode::Char('m'))), Command::None));
+    assert!(app.status.contains("no marginal design"), "{}", app.status);
+    finished_run(&mut app);
+    // Design 7 at 59.5° ± 1.2° (standard): the 60° locking angle is inside its band.
+    let mut r = row(&app, 7, (59.5, 297.0, 6507.0, 1.5));
+    assert_eq!(r.verdict, wovenform::verdict::Verdict::Marginal);
+    r.map = None;
+    app.on_message(Message::Row(Box::new(r)));
+    let s = screen(&app, 80, 24);
+    assert!(s.contains("1 marginal: m re-runs them"), "{s}");
+    match app.on_key(key(KeyCode::Char('m'))) {
+        Command::Start {
+            plan, resume, only, ..
+        } => {
+            let only = only.expect("only the marginal designs");
+            assert_eq!(only.len(), 1);
+            assert!(only.contains(&app.entries[7].design.id));
+            assert!(!resume);
+            // One level finer than standard: fine, 1.25 mm elements.
+            assert_eq!(plan.base_scene.mesh.element_size, 1.25);
+        }
+        other => panic!("expected a start, got {other:?}"),
+    }
+    assert!(
+        app.entries[7].row.is_none(),
+        "its row waits for the finer run"
+    );
+    assert!(
+        app.entries[0].row.is_some(),
+        "the settled designs keep theirs"
+    );
 }

@@ -139,10 +139,11 @@ pub fn print_outcome(plan: &Plan, outcome: &Outcome) {
     let c = counts(&outcome.rows);
     println!();
     println!(
-        "{} of {} designs: {} feasible, {} infeasible, {} failed, {} invalid{}",
+        "{} of {} designs: {} feasible, {} marginal, {} infeasible, {} failed, {} invalid{}",
         outcome.rows.len(),
         plan.len(),
         c.feasible,
+        c.marginal,
         c.infeasible,
         c.failed,
         c.invalid,

@@ -36,6 +36,7 @@ impl Verdict {
     pub fn colour(self) -> (u8, u8, u8) {
         match self {
             Verdict::Feasible => (0, 150, 100),
+            Verdict::Marginal => (230, 159, 0),
             Verdict::Infeasible => (213, 70, 0),
             Verdict::Failed => (90, 90, 90),
             Verdict::Invalid => (160, 160, 160),

@@ -109,10 +109,11 @@ impl RunSummary {
             &self.accuracy,
             self.max_shear_err_deg,
             self.punch_force_err_pct,
+            self.max_tension_err_pct,
         ) {
-            (Some(level), Some(shear), Some(force)) => writeln!(
+            (Some(level), Some(shear), Some(force), Some(tension)) => writeln!(
                 out,
-                "accuracy     {level} ({} mm elements): max shear ±{shear}°, punch force ±{force} % (measured on the paper's box)",
+                "accuracy     {level} ({} mm elements): max shear ±{shear}°, max tension ±{tension} %, punch force ±{force} % (measured on the paper's box)",
                 self.inputs.mesh.element_size
             ),
             _ => writeln!(

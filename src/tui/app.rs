@@ -3,11 +3,12 @@
 //! export, quitting) goes out as a `Command`, so that all of it can be tested directly.
 
 use std::cmp::Ordering;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
+use crate::accuracy::Accuracy;
 use crate::study::sweep::{Design, Plan, Row, StoredField, counts};
 use crate::verdict::Verdict;
 
@@ -60,11 +61,13 @@ pub enum RunState {
 pub enum Command {
     None,
     Quit,
-    /// Run `plan` into `dir`, keeping the rows already there when `resume`.
+    /// Run `plan` into `dir`, keeping the rows already there when `resume`; only the designs
+    /// of `only` (by id) when it is given.
     Start {
         plan: Box<Plan>,
         dir: PathBuf,
         resume: bool,
+        only: Option<HashSet<String>>,
     },
     Cancel,
     Export {
@@ -413,7 +416,68 @@ impl App {
             plan: Box::new(plan),
             dir,
             resume,
+            only: None,
         }
+    }
+
+    /// The designs whose verdict is MARGINAL.
+    pub fn marginal_ids(&self) -> HashSet<String> {
+        self.entries
+            .iter()
+            .filter_map(|e| e.row.as_ref())
+            .filter(|r| r.verdict == Verdict::Marginal)
+            .map(|r| r.design.clone())
+            .collect()
+    }
+
+    /// Runs the marginal designs again at the next finer level, in a run folder of their own;
+    /// the other designs keep their rows (each row carries its own error band).
+    fn rerun_marginal(&mut self) -> Command {
+        if self.running() {
+            self.status = "a sweep is running: c cancels it".into();
+            return Command::None;
+        }
+        let only = self.marginal_ids();
+        if only.is_empty() {
+            self.status = "no marginal design to re-run".into();
+            return Command::None;
+        }
+        let finer = self.table_accuracy().step(true);
+        if finer == self.table_accuracy() {
+            self.status = format!(
+                "{} marginal designs at fine already: the finest level cannot settle them",
+                only.len()
+            );
+            return Command::None;
+        }
+        self.params.set_accuracy(finer);
+        let plan = self.params.plan.clone();
+        for e in &mut self.entries {
+            if only.contains(&e.design.id) {
+                e.row = None;
+            }
+        }
+        self.runs += 1;
+        let dir = self.session.join(format!("run-{}", self.runs));
+        self.table_plan = plan.clone();
+        self.run_dir = Some(dir.clone());
+        self.run = RunState::Running;
+        self.to_run = 0;
+        self.done = 0;
+        self.run_started_s = self.now_s;
+        self.status = format!("re-running {} marginal designs at {finer}", only.len());
+        Command::Start {
+            plan: Box::new(plan),
+            dir,
+            resume: false,
+            only: Some(only),
+        }
+    }
+
+    /// The accuracy level the table's plan was run at.
+    fn table_accuracy(&self) -> Accuracy {
+        Accuracy::of_element_size(self.table_plan.base_scene.mesh.element_size)
+            .unwrap_or(self.params.accuracy)
     }
 
     /// With no results on the table and no run going, the table shows the edited grid.
@@ -563,6 +627,7 @@ impl App {
                 }
             }
             KeyCode::Char('r') => return self.start(),
+            KeyCode::Char('m') => return self.rerun_marginal(),
             KeyCode::Char('c') | KeyCode::Esc if self.run == RunState::Running => {
                 self.run = RunState::Stopping;
                 self.status =

@@ -13,6 +13,7 @@ use crate::study::sweep::StoredField;
 use super::app::{App, Entry};
 use super::shear_map::{ShearMap, colour, shade};
 use super::view::{Styles, verdict_cell};
+use crate::accuracy::Accuracy;
 
 /// The colour bar: the scale from 0 to `top`, the locking angle marked.
 fn scale_line<'a>(width: u16, locking: f64, top: f64, st: &Styles) -> Vec<Line<'a>> {
@@ -119,8 +120,12 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
         return lines;
     };
     let [locking, breaking] = entry.limits;
-    let accuracy = app.params.accuracy;
-    let err = accuracy.error();
+    let accuracy = Accuracy::of_element_size(app.table_plan.base_scene.mesh.element_size)
+        .unwrap_or(app.params.accuracy);
+    let level = accuracy.error();
+    let shear_err = r.max_shear_err_deg.unwrap_or(level.max_shear_deg);
+    let tension_err = r.max_tension_err_pct.unwrap_or(level.max_tension_pct);
+    let force_err = r.punch_force_err_pct.unwrap_or(level.punch_force_pct);
     let (word, style) = verdict_cell(entry, app, st);
     let mut verdict = vec![Span::styled(word, style)];
     if let Some(f) = &r.failure {
@@ -134,7 +139,7 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
                 format!("{s:.1}°"),
                 if s > locking { st.bad() } else { st.good() },
             ),
-            Span::raw(format!(" ±{:.1}° (locking {locking}°)", err.max_shear_deg)),
+            Span::raw(format!(" ±{shear_err:.1}° (locking {locking}°)")),
         ]));
     }
     if let Some(t) = r.max_tension_n {
@@ -144,14 +149,13 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
                 format!("{t:.0} N"),
                 if t > breaking { st.bad() } else { st.good() },
             ),
-            Span::raw(format!(" (break {breaking} N)")),
+            Span::raw(format!(" ±{tension_err:.0} % (break {breaking} N)")),
         ]));
     }
     if let Some(f) = r.punch_force_n {
         lines.push(Line::raw(format!(
-            "punch force {:.2} kN ±{:.1} %",
-            f / 1000.0,
-            err.punch_force_pct
+            "punch force {:.2} kN ±{force_err:.1} %",
+            f / 1000.0
         )));
     }
     if let Some(w) = r.wall_s {

@@ -136,8 +136,13 @@ fn event_loop(
                     s.store(true, Ordering::Relaxed);
                 }
             }
-            Command::Start { plan, dir, resume } => {
-                stop = Some(worker::start_sweep(*plan, dir, resume, None, tx.clone()));
+            Command::Start {
+                plan,
+                dir,
+                resume,
+                only,
+            } => {
+                stop = Some(worker::start_sweep(*plan, dir, resume, only, tx.clone()));
             }
             Command::Export { from, to } => worker::start_export(from, to, tx.clone()),
         }

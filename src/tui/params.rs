@@ -326,6 +326,17 @@ impl Parameters {
         }
     }
 
+    /// Sets the accuracy level (and the plan with it).
+    pub fn set_accuracy(&mut self, level: Accuracy) {
+        while self.accuracy != level {
+            let before = self.accuracy;
+            self.step_accuracy(level.element_size_mm() < self.accuracy.element_size_mm());
+            if self.accuracy == before {
+                break;
+            }
+        }
+    }
+
     /// The accuracy level one step up or down.
     pub fn step_accuracy(&mut self, up: bool) {
         let next = self.accuracy.step(up);

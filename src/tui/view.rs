@@ -84,6 +84,7 @@ pub(super) fn verdict_cell(entry: &Entry, app: &App, st: &Styles) -> (String, St
     let [locking, _] = entry.limits;
     match r.verdict {
         Verdict::Feasible => ("✓ feasible".into(), st.good()),
+        Verdict::Marginal => ("≈ marginal".into(), st.warn()),
         Verdict::Infeasible => {
             let shear = r.max_shear_deg.is_some_and(|s| s > locking);
             (if shear { "✗ shear" } else { "✗ tension" }.into(), st.bad())
@@ -274,6 +275,13 @@ fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
                 st.warn(),
             ));
         }
+        let marginal = app.marginal_ids().len();
+        if marginal > 0 && !app.running() {
+            lines.push(Line::styled(
+                format!("≈ {marginal} marginal: m re-runs them one level finer"),
+                st.warn(),
+            ));
+        }
         if !app.status.is_empty() {
             lines.push(Line::raw(app.status.clone()));
         }
@@ -368,8 +376,10 @@ fn table_header(app: &App) -> (Vec<String>, Vec<Constraint>) {
 /// One design's row: its values, figures (over a limit in red), verdict, run time and error.
 fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
     let [locking, breaking] = e.limits;
-    let err = app.params.accuracy.error().max_shear_deg;
     let r = e.row.as_ref();
+    let err = r
+        .and_then(|r| r.max_shear_err_deg)
+        .unwrap_or(app.params.accuracy.error().max_shear_deg);
     let mut cells = vec![Cell::from(format!("{}", e.design.index))];
     cells.extend(e.params.iter().map(|(_, v)| Cell::from(show_value(v))));
     let shear = r.and_then(|r| r.max_shear_deg);
@@ -460,6 +470,7 @@ const HELP: &[(&str, &str)] = &[
         "run the sweep of the parameters (resumes after a cancel)",
     ),
     ("c, Esc", "cancel: workers stop, finished rows stay"),
+    ("m", "re-run the marginal designs at the next finer level"),
     ("e", "export results.csv, maps and report.png to a folder"),
     ("Tab", "move between the parameters and the results"),
     ("↑ ↓ PgUp PgDn", "select a parameter or a design"),

@@ -1,6 +1,7 @@
 //! Work off the interface thread: a sweep on worker threads and an export, reporting over a
 //! channel.
 
+use std::collections::HashSet;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -31,15 +32,16 @@ pub fn start_sweep(
     plan: Plan,
     dir: PathBuf,
     resume: bool,
-    jobs: Option<usize>,
+    only: Option<HashSet<String>>,
     tx: Sender<Message>,
 ) -> Arc<AtomicBool> {
     let stop = Arc::new(AtomicBool::new(false));
     let options = sweep::Options {
-        jobs,
+        jobs: None,
         shard: None,
         resume,
         stop: Some(stop.clone()),
+        only,
     };
     thread::Builder::new()
         .name("explorer-sweep".into())

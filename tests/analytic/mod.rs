@@ -238,6 +238,26 @@ pub fn feasible(max_shear_deg: f64, locking_deg: f64, max_tension_n: f64, break_
     max_shear_deg <= locking_deg && max_tension_n <= break_n
 }
 
+/// The verdict with error bands (README, `verdict`): the shear's band is `shear ± err_deg`,
+/// the tension's `tension · (1 ± err_pct/100)`. `INFEASIBLE` when a band lies wholly over its
+/// limit, `FEASIBLE` when both lie wholly under (or at) their limits, `MARGINAL` when a limit
+/// lies inside a band.
+pub fn verdict_word(
+    (max_shear_deg, err_deg, locking_deg): (f64, f64, f64),
+    (max_tension_n, err_pct, break_n): (f64, f64, f64),
+) -> &'static str {
+    let shear = [max_shear_deg - err_deg, max_shear_deg + err_deg];
+    let e = err_pct / 100.0;
+    let tension = [max_tension_n * (1.0 - e), max_tension_n * (1.0 + e)];
+    if shear[0] > locking_deg || tension[0] > break_n {
+        "INFEASIBLE"
+    } else if shear[1] <= locking_deg && tension[1] <= break_n {
+        "FEASIBLE"
+    } else {
+        "MARGINAL"
+    }
+}
+
 /// A run's estimated time left (s) at a constant pace: `done` of `total` designs in
 /// `elapsed_s` seconds leave `(total − done) · elapsed / done`.
 pub fn eta_s(done: usize, total: usize, elapsed_s: f64) -> f64 {

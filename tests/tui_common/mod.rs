@@ -28,7 +28,7 @@ pub const FIGURES: [(f64, f64, f64, f64); 8] = [
     (73.8, 492.0, 7570.0, 4.6),
     (70.2, 474.0, 6750.0, 4.7),
     (65.4, 348.0, 7440.0, 3.9),
-    (58.9, 297.0, 6507.0, 1.5),
+    (58.5, 297.0, 6507.0, 1.5),
 ];
 
 /// An explorer on the embedded default, colours as asked.
@@ -54,18 +54,18 @@ pub fn type_text(app: &mut App, text: &str) {
 }
 
 /// The row of design `index` with the given figures; the verdict by the definition
-/// (`analytic::feasible`): feasible when the shear is within the locking angle and the tension
-/// within the break tension. (A crate that uses this module declares `mod analytic;` too.)
+/// (`analytic::verdict_word`): the shear and tension with the accuracy level's error bands
+/// against the locking angle and the break tension. (A crate that uses this module declares `mod analytic;` too.)
 pub fn row(app: &App, index: usize, figures: (f64, f64, f64, f64)) -> Row {
     let e = &app.entries[index];
     let fabric = &app.table_plan.base_scene.fabric;
     let (shear, tension, force, wall) = figures;
-    let feasible = crate::analytic::feasible(
-        shear,
-        fabric.locking_angle_deg,
-        tension,
-        fabric.break_tension_n,
+    let err = app.params.accuracy.error();
+    let word = crate::analytic::verdict_word(
+        (shear, err.max_shear_deg, fabric.locking_angle_deg),
+        (tension, err.max_tension_pct, fabric.break_tension_n),
     );
+    let feasible = word == "FEASIBLE";
     Row {
         design: e.design.id.clone(),
         index,
@@ -73,15 +73,14 @@ pub fn row(app: &App, index: usize, figures: (f64, f64, f64, f64)) -> Row {
         max_shear_deg: Some(shear),
         max_tension_n: Some(tension),
         punch_force_n: Some(force),
+        max_shear_err_deg: Some(err.max_shear_deg),
+        max_tension_err_pct: Some(err.max_tension_pct),
+        punch_force_err_pct: Some(err.punch_force_pct),
         feasible,
         converged: true,
         wall_s: Some(wall),
         map: Some(format!("maps/{}.png", e.design.id)),
-        verdict: if feasible {
-            Verdict::Feasible
-        } else {
-            Verdict::Infeasible
-        },
+        verdict: Verdict::parse(word).expect("a verdict word"),
         failure: None,
     }
 }

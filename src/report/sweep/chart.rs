@@ -147,6 +147,7 @@ fn line_label(plan: &Plan, ca: usize, v: &toml::Value) -> (String, Colour) {
 #[derive(Default)]
 struct Points {
     feasible: Vec<(f64, f64)>,
+    marginal: Vec<(f64, f64)>,
     infeasible: Vec<(f64, f64)>,
 }
 
@@ -170,10 +171,10 @@ impl Points {
             }
             let p = (x + dodge, y);
             pts.push(p);
-            if r.verdict == Verdict::Feasible {
-                self.feasible.push(p);
-            } else {
-                self.infeasible.push(p);
+            match r.verdict {
+                Verdict::Feasible => self.feasible.push(p),
+                Verdict::Marginal => self.marginal.push(p),
+                _ => self.infeasible.push(p),
             }
         }
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -189,7 +190,12 @@ impl Points {
             Colour::BLACK,
         ));
         chart.x_range = Some((x0, x1));
-        let ys = self.feasible.iter().chain(&self.infeasible).map(|p| p.1);
+        let ys = self
+            .feasible
+            .iter()
+            .chain(&self.marginal)
+            .chain(&self.infeasible)
+            .map(|p| p.1);
         let (lo, hi) = ys.fold((locking, locking), |(lo, hi), y| (lo.min(y), hi.max(y)));
         let pad = 0.12 * (hi - lo) + 1.0;
         chart.y_range = Some(((lo - pad).max(0.0), hi + pad));
@@ -202,6 +208,13 @@ impl Points {
             self.feasible,
             colour(Verdict::Feasible),
         ));
+        if !self.marginal.is_empty() {
+            chart.push(Series::markers(
+                "≈ marginal",
+                self.marginal,
+                colour(Verdict::Marginal),
+            ));
+        }
         chart.push(Series::crosses(
             "✗ infeasible",
             self.infeasible,

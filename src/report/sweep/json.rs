@@ -23,6 +23,7 @@ pub fn results_json(plan: &Plan, rows: &[Row], shard: Option<Shard>, top: f64) -
         "columns": column_names(&plan.columns()),
         "counts": {
             "feasible": c.feasible,
+            "marginal": c.marginal,
             "infeasible": c.infeasible,
             "failed": c.failed,
             "invalid": c.invalid,
@@ -33,6 +34,7 @@ pub fn results_json(plan: &Plan, rows: &[Row], shard: Option<Shard>, top: f64) -
         "accuracy": level.map(|a| a.name()),
         "max_shear_err_deg": level.map(|a| a.error().max_shear_deg),
         "punch_force_err_pct": level.map(|a| a.error().punch_force_pct),
+        "max_tension_err_pct": level.map(|a| a.error().max_tension_pct),
         "shear_scale_max_deg": top,
         "rows": rows,
     });

@@ -38,10 +38,11 @@ pub fn sheet<E>(
 /// `Sweep NAME: N designs — 3 ✓ feasible, 5 ✗ infeasible, …`.
 fn title(plan: &Plan, rows: &[Row]) -> String {
     let c = counts(rows);
-    let mut tally = vec![
-        format!("{} ✓ feasible", c.feasible),
-        format!("{} ✗ infeasible", c.infeasible),
-    ];
+    let mut tally = vec![format!("{} ✓ feasible", c.feasible)];
+    if c.marginal > 0 {
+        tally.push(format!("{} ≈ marginal", c.marginal));
+    }
+    tally.push(format!("{} ✗ infeasible", c.infeasible));
     if c.failed > 0 {
         tally.push(format!("{} failed", c.failed));
     }
@@ -116,7 +117,7 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
                 format!(" — fixed: {}", fixed.join(", "))
             }
         ),
-        "Feasible = converged, max shear ≤ locking angle and max yarn tension ≤ break tension. Every design's map: maps/<design>.png; every row: results.csv.".into(),
+        "Feasible = converged, max shear ≤ locking angle and max yarn tension ≤ break tension by more than their error; marginal = a limit inside a figure's error band. Every design's map: maps/<design>.png; every row: results.csv.".into(),
     ]
 }
 

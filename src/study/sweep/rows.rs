@@ -15,10 +15,13 @@ use crate::verdict::Verdict;
 
 /// The columns of `results.csv` after the parameters, in order: the contract's figures, then
 /// the design's id, its verdict and why it failed or is invalid.
-pub const FIGURE_COLUMNS: [&str; 10] = [
+pub const FIGURE_COLUMNS: [&str; 13] = [
     "max_shear_deg",
     "max_tension_n",
     "punch_force_n",
+    "max_shear_err_deg",
+    "max_tension_err_pct",
+    "punch_force_err_pct",
     "feasible",
     "converged",
     "wall_s",
@@ -39,6 +42,10 @@ pub struct Row {
     pub max_shear_deg: Option<f64>,
     pub max_tension_n: Option<f64>,
     pub punch_force_n: Option<f64>,
+    /// How far each figure can be off (°, % of the tension, % of the force): the level's.
+    pub max_shear_err_deg: Option<f64>,
+    pub max_tension_err_pct: Option<f64>,
+    pub punch_force_err_pct: Option<f64>,
     pub feasible: bool,
     pub converged: bool,
     pub wall_s: Option<f64>,
@@ -67,6 +74,9 @@ impl Serialize for Row {
         m.serialize_entry("max_shear_deg", &self.max_shear_deg)?;
         m.serialize_entry("max_tension_n", &self.max_tension_n)?;
         m.serialize_entry("punch_force_n", &self.punch_force_n)?;
+        m.serialize_entry("max_shear_err_deg", &self.max_shear_err_deg)?;
+        m.serialize_entry("max_tension_err_pct", &self.max_tension_err_pct)?;
+        m.serialize_entry("punch_force_err_pct", &self.punch_force_err_pct)?;
         m.serialize_entry("feasible", &self.feasible)?;
         m.serialize_entry("converged", &self.converged)?;
         m.serialize_entry("wall_s", &self.wall_s)?;
@@ -111,6 +121,9 @@ impl Row {
             opt(self.max_shear_deg, 4),
             opt(self.max_tension_n, 3),
             opt(self.punch_force_n, 3),
+            opt(self.max_shear_err_deg, 2),
+            opt(self.max_tension_err_pct, 2),
+            opt(self.punch_force_err_pct, 2),
             self.feasible.to_string(),
             self.converged.to_string(),
             opt(self.wall_s, 3),
@@ -130,6 +143,9 @@ impl Row {
             max_shear_deg: None,
             max_tension_n: None,
             punch_force_n: None,
+            max_shear_err_deg: None,
+            max_tension_err_pct: None,
+            punch_force_err_pct: None,
             feasible: false,
             converged: false,
             wall_s: None,
@@ -167,6 +183,9 @@ impl Row {
             max_shear_deg: Some(round_to(s.max_shear_deg, 4)),
             max_tension_n: Some(round_to(s.max_tension_n, 3)),
             punch_force_n: Some(round_to(s.punch_force_n, 3)),
+            max_shear_err_deg: s.max_shear_err_deg,
+            max_tension_err_pct: s.max_tension_err_pct,
+            punch_force_err_pct: s.punch_force_err_pct,
             feasible: s.feasible,
             converged: s.converged,
             wall_s: Some(round_to(s.wall_s, 3)),
@@ -211,6 +230,9 @@ impl Row {
             max_shear_deg: num("max_shear_deg")?,
             max_tension_n: num("max_tension_n")?,
             punch_force_n: num("punch_force_n")?,
+            max_shear_err_deg: num("max_shear_err_deg").unwrap_or(None),
+            max_tension_err_pct: num("max_tension_err_pct").unwrap_or(None),
+            punch_force_err_pct: num("punch_force_err_pct").unwrap_or(None),
             feasible: boolean("feasible")?,
             converged: boolean("converged")?,
             wall_s: num("wall_s")?,
@@ -234,6 +256,7 @@ impl Row {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Counts {
     pub feasible: usize,
+    pub marginal: usize,
     pub infeasible: usize,
     pub failed: usize,
     pub invalid: usize,
@@ -244,6 +267,7 @@ pub fn counts(rows: &[Row]) -> Counts {
     for r in rows {
         match r.verdict {
             Verdict::Feasible => c.feasible += 1,
+            Verdict::Marginal => c.marginal += 1,
             Verdict::Infeasible => c.infeasible += 1,
             Verdict::Failed => c.failed += 1,
             Verdict::Invalid => c.invalid += 1,

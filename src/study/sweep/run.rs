@@ -35,6 +35,8 @@ pub struct Options {
     /// Set from another thread to stop: designs not started are left, running ones end at
     /// their next load step (their rows are not written, so a resume runs them again).
     pub stop: Option<Arc<AtomicBool>>,
+    /// Run only these designs (by id), e.g. the marginal ones again at a finer level.
+    pub only: Option<HashSet<String>>,
 }
 
 /// What a sweep reports while it runs.
@@ -203,12 +205,13 @@ pub fn run(
     let (kept_rows, kept) = store::earlier_rows(plan, dir, options.resume)?;
     let file = store::open_rows(plan, dir, options.shard, &kept_rows)?;
     let have: HashSet<&str> = kept_rows.iter().map(|r| r.design.as_str()).collect();
+    let wanted = |d: &Design| options.only.as_ref().is_none_or(|o| o.contains(&d.id));
     let mine = |index: usize| options.shard.is_none_or(|s| s.contains(index));
     let mut valid = Vec::new();
     let mut invalid = Vec::new();
     for d in designs
         .iter()
-        .filter(|d| mine(d.index) && !have.contains(d.id.as_str()))
+        .filter(|d| mine(d.index) && wanted(d) && !have.contains(d.id.as_str()))
     {
         match plan.design_scene(d) {
             Ok(scene) => valid.push((d, scene)),
@@ -266,7 +269,7 @@ pub fn run(
     Ok(Outcome {
         missing: designs
             .iter()
-            .filter(|d| mine(d.index))
+            .filter(|d| mine(d.index) && wanted(d))
             .count()
             .saturating_sub(present),
         rows,
