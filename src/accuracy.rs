@@ -1,13 +1,17 @@
 //! Accuracy levels: how fine the blank is meshed, and the error that buys, measured.
 //!
-//! A level sets `mesh.element_size`. Its error estimate is the error bound measured on the
-//! paper's square box (the open design 10/15/10 and the tight design 5/6/5, linear law, 28 mm
-//! stroke) on a mesh ladder (5, 3.54, 2.5, 1.77, 1.25 mm) by `wovenform converge`: each rung's
-//! distance to the ladder's reference plus the reference's own uncertainty (see
-//! `study::converge`); the larger of the two designs' bounds, rounded up. `wovenform converge
-//! presets/paper-box-open.toml --out DIR` (and `…-tight.toml`) reproduces them (README,
-//! "Accuracy and speed"). Two designs are not the design space: issue 13 measures the levels
-//! across it.
+//! A level sets `mesh.element_size`. Its error estimate is measured, and rounded up:
+//! - on the paper's square box (the open design 10/15/10 and the tight design 5/6/5, linear
+//!   law, 28 mm stroke), the error bounds of `wovenform converge` on the mesh ladder (5, 3.54,
+//!   2.5, 1.77, 1.25 mm): each rung's distance to the ladder's reference plus the reference's
+//!   own uncertainty (see `study::converge`);
+//! - on seven more designs of the paper grid (r, rp, rm and friction varied; 2026-12-01), the
+//!   distance of coarse and standard to the fine answer, and of fine to the 1.77 mm rung (a
+//!   lower bound of its error, so the fine level's figures are the least sure).
+//!
+//! The max tension (the largest over elements) converges badly: a spike at one element comes
+//! and goes with the mesh (10/15/5: 343, 303, 267 N at 2.5, 1.77, 1.25 mm), hence its wide
+//! bands. Issue 13 replaces the element maximum with a peak that converges.
 
 /// How fine a run is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -82,28 +86,34 @@ impl Accuracy {
         Accuracy::ALL[j]
     }
 
-    /// The measured error of this level on the paper box (see the module's comment).
+    /// The measured error of this level (see the module's comment).
     pub fn error(self) -> ErrorEstimate {
         match self {
-            // Bounds: shear open 3.19°, tight 4.32°; force 5.6 %, 6.6 %; tension 28.9 %, 50.0 %.
+            // Shear: paper box bounds 3.19°, 4.32°; the seven designs up to 4.68° (10/15/5)
+            // under the fine answer. Force: 5.6 %, 6.6 %. Tension: 50 % (tight), up to 68 %
+            // (10/10.5/7.5).
             Accuracy::Coarse => ErrorEstimate {
-                max_shear_deg: 4.5,
+                max_shear_deg: 5.0,
                 punch_force_pct: 7.0,
-                max_tension_pct: 50.0,
+                max_tension_pct: 70.0,
                 open_box_wall_s: 0.07,
             },
-            // Bounds: shear open 1.16°, tight 0.68°; force 2.5 %, 0.7 %; tension 5.2 %, 11.4 %.
+            // Shear: paper box bounds 1.16°, 0.68°; the seven designs up to 1.03° (7.5/15/10)
+            // from the fine answer. Force: 2.5 %, 0.7 %. Tension: 11.4 % (tight), up to 43.5 %
+            // (5/10.5/5 at friction 0.15: 345 N against 240 N at fine).
             Accuracy::Standard => ErrorEstimate {
                 max_shear_deg: 1.2,
                 punch_force_pct: 2.5,
-                max_tension_pct: 12.0,
+                max_tension_pct: 45.0,
                 open_box_wall_s: 0.42,
             },
-            // Bounds: shear open 0.58°, tight 0.26°; force 0.45 %, 0.54 %; tension 0.9 %, 0.9 %.
+            // Shear: paper box bounds 0.58°, 0.26°; the seven designs moved up to 0.38° from
+            // 1.77 mm. Force: 0.45 %, 0.54 %. Tension: 0.9 % on the box, but 13.7 % from
+            // 1.77 mm on 10/15/5.
             Accuracy::Fine => ErrorEstimate {
                 max_shear_deg: 0.6,
                 punch_force_pct: 1.0,
-                max_tension_pct: 1.0,
+                max_tension_pct: 15.0,
                 open_box_wall_s: 3.0,
             },
         }

@@ -19,7 +19,8 @@ pub struct RunSummary {
     pub converged: bool,
     /// Why the run stopped short, if it did.
     pub failure: Option<String>,
-    /// Converged, shear within the locking angle and yarn tension within the break tension.
+    /// The verdict is FEASIBLE: converged, sound, and the shear and the tension within their
+    /// limits by more than their errors.
     pub feasible: bool,
     /// The verdict in a few words (also in the maps' titles).
     pub verdict: String,
