@@ -36,6 +36,13 @@ pub struct RunSummary {
     pub area_over_limit_pct: f64,
     /// Largest yarn tension, N, and the breaking tension, N.
     pub max_tension_n: f64,
+    /// The same peaks over one woven cell: the largest mean |shear| (degrees) and mean largest
+    /// yarn tension (N) over a disc of `cell_mm` (the cell's mean side) around an element, in
+    /// the undeformed blank. They converge under mesh refinement where the element maxima
+    /// jump (README, "Accuracy and speed"); not yet what the verdict uses.
+    pub max_shear_cell_deg: f64,
+    pub max_tension_cell_n: f64,
+    pub cell_mm: f64,
     pub break_tension_n: f64,
     /// Punch force on the whole blank at the end, N.
     pub punch_force_n: f64,
@@ -91,6 +98,9 @@ impl RunSummary {
         };
         let level = Accuracy::of_element_size(scene.mesh.element_size);
         let error = level.map(|a| a.error());
+        let cell_mm = 0.5 * (scene.fabric.l0.0[0] + scene.fabric.l0.0[1]);
+        let max_shear_cell_deg = result.neighbourhood_peak(&result.shear_deg, cell_mm).1;
+        let max_tension_cell_n = result.neighbourhood_peak(&result.tension_max_n, cell_mm).1;
         let facts = Facts {
             converged: result.converged,
             no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_))),
@@ -124,6 +134,9 @@ impl RunSummary {
             locking_angle_deg: locking,
             area_over_limit_pct: result.area_over_limit_pct(locking),
             max_tension_n,
+            max_shear_cell_deg,
+            max_tension_cell_n,
+            cell_mm,
             break_tension_n: breaking,
             punch_force_n: result.punch_force_n,
             stroke_mm: scene.process.stroke,

@@ -83,6 +83,11 @@ impl RunSummary {
         );
         let _ = writeln!(
             out,
+            "cell peaks   {:.1}° of shear, {:.1} N of tension averaged over one woven cell ({:.2} mm) around an element",
+            self.max_shear_cell_deg, self.max_tension_cell_n, self.cell_mm
+        );
+        let _ = writeln!(
+            out,
             "punch force  {:.1} N at stroke {:.2} of {} mm",
             self.punch_force_n, self.stroke_reached_mm, self.stroke_mm
         );

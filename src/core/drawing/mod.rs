@@ -6,6 +6,7 @@
 mod collect;
 mod failure;
 mod outline;
+mod peak;
 mod result;
 mod size;
 
