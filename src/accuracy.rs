@@ -5,9 +5,11 @@
 //!   law, 28 mm stroke), the error bounds of `wovenform converge` on the mesh ladder (5, 3.54,
 //!   2.5, 1.77, 1.25 mm): each rung's distance to the ladder's reference plus the reference's
 //!   own uncertainty (see `study::converge`);
-//! - on seven more designs of the paper grid (r, rp, rm and friction varied; 2026-12-01), the
+//! - on twelve more designs of the paper grid (r, rp, rm and friction varied; 2026-12-01), the
 //!   distance of coarse and standard to the fine answer, and of fine to the 1.77 mm rung (a
-//!   lower bound of its error, so the fine level's figures are the least sure).
+//!   lower bound of its error, so the fine level's figures are the least sure). Seven were
+//!   measured first; the five after them showed the standard shear band too narrow (1.70° on
+//!   5/10.5/10, 1.45° on 7.5/15/7.5 against ±1.2°), so the bands now cover all twelve.
 //!
 //! The max tension (the largest over elements) converges badly: a spike at one element comes
 //! and goes with the mesh (10/15/5: 343, 303, 267 N at 2.5, 1.77, 1.25 mm), hence its wide
@@ -89,20 +91,20 @@ impl Accuracy {
     /// The measured error of this level (see the module's comment).
     pub fn error(self) -> ErrorEstimate {
         match self {
-            // Shear: paper box bounds 3.19°, 4.32°; the seven designs up to 4.68° (10/15/5)
-            // under the fine answer. Force: 5.6 %, 6.6 %. Tension: 50 % (tight), up to 68 %
-            // (10/10.5/7.5).
+            // Shear: paper box bounds 3.19°, 4.32°; the twelve designs up to 4.83° (7.5/10.5/5)
+            // under the fine answer. Force: 5.6 %, 6.6 %. Tension: 50 % (tight), up to 78 %
+            // (7.5/10.5/5 at friction 0.25).
             Accuracy::Coarse => ErrorEstimate {
                 max_shear_deg: 5.0,
                 punch_force_pct: 7.0,
-                max_tension_pct: 70.0,
+                max_tension_pct: 80.0,
                 open_box_wall_s: 0.07,
             },
-            // Shear: paper box bounds 1.16°, 0.68°; the seven designs up to 1.03° (7.5/15/10)
+            // Shear: paper box bounds 1.16°, 0.68°; the twelve designs up to 1.70° (5/10.5/10)
             // from the fine answer. Force: 2.5 %, 0.7 %. Tension: 11.4 % (tight), up to 43.5 %
             // (5/10.5/5 at friction 0.15: 345 N against 240 N at fine).
             Accuracy::Standard => ErrorEstimate {
-                max_shear_deg: 1.2,
+                max_shear_deg: 1.8,
                 punch_force_pct: 2.5,
                 max_tension_pct: 45.0,
                 open_box_wall_s: 0.42,

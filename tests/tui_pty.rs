@@ -265,7 +265,7 @@ fn a_session_open_run_sort_detail_export_quit() {
     let s = t.settled("finished: 8/8", 300);
     println!("— finished:\n{s}");
     assert!(design_line(&s, 0).contains("✗ shear"), "{s}");
-    // The open design (59.0° at standard, ±1.2°): the locking angle lies in its band.
+    // The open design (59.0° at standard, ±1.8°): the locking angle lies in its band.
     assert!(design_line(&s, 7).contains("≈ marginal"), "{s}");
 
     // Sort by the max shear (#, r, rp, rm, friction, holder_pressure, shear): the open
