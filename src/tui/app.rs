@@ -1,4 +1,5 @@
-//! The explorer's state and what each key does to it. No terminal here: keys come in as
+//! The explorer's state (what each key does to it: `keys.rs`; starting runs: `runs.rs`). No
+//! terminal here: keys come in as
 //! `KeyEvent`s, worker reports as `Message`s, and what needs the outside world (a sweep, an
 //! export, quitting) goes out as a `Command`, so that all of it can be tested directly.
 
@@ -6,13 +7,10 @@ use std::cmp::Ordering;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
-use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
-
-use crate::accuracy::Accuracy;
 use crate::study::sweep::{Design, Plan, Row, StoredField, counts};
 use crate::verdict::Verdict;
 
-use super::params::{Parameters, Target};
+use super::params::Parameters;
 use super::worker::Message;
 
 /// Which panel the arrow keys move in.
@@ -134,7 +132,7 @@ pub struct App {
     pub export_dir: PathBuf,
 }
 
-fn entries_of(plan: &Plan) -> Vec<Entry> {
+pub(super) fn entries_of(plan: &Plan) -> Vec<Entry> {
     let columns = plan.columns();
     let fabric = &plan.base_scene.fabric;
     let base = [fabric.locking_angle_deg, fabric.break_tension_n];
@@ -224,7 +222,7 @@ impl App {
     }
 
     /// The number of sortable columns.
-    fn sort_columns(&self) -> usize {
+    pub(super) fn sort_columns(&self) -> usize {
         self.table_plan.columns().len() + FIGURE_COLUMNS.len()
     }
 
@@ -304,7 +302,7 @@ impl App {
     /// Reads the selected design's shear field from the run folder, unless it was read
     /// before: after every key and report, so that the selection, a design finishing and the
     /// detail opening find it there.
-    fn load_selected_field(&mut self) {
+    pub(super) fn load_selected_field(&mut self) {
         let Some(id) = self.selected_map_id().map(str::to_string) else {
             return;
         };
@@ -386,102 +384,8 @@ impl App {
         }
     }
 
-    /// Starts (or, after a cancel of the same grid, resumes) a run of the edited parameters.
-    fn start(&mut self) -> Command {
-        if self.running() {
-            self.status = "a sweep is running: c cancels it".into();
-            return Command::None;
-        }
-        let plan = self.params.plan.clone();
-        let resume = matches!(self.run, RunState::Cancelled { .. })
-            && plan.sweep_hash == self.table_plan.sweep_hash
-            && self.run_dir.is_some();
-        let dir = if resume {
-            self.run_dir.clone().expect("checked")
-        } else {
-            self.runs += 1;
-            self.entries = entries_of(&plan);
-            self.fields.clear();
-            self.selected = 0;
-            self.session.join(format!("run-{}", self.runs))
-        };
-        self.table_plan = plan.clone();
-        self.run_dir = Some(dir.clone());
-        self.run = RunState::Running;
-        self.to_run = 0;
-        self.done = 0;
-        self.run_started_s = self.now_s;
-        self.status.clear();
-        Command::Start {
-            plan: Box::new(plan),
-            dir,
-            resume,
-            only: None,
-        }
-    }
-
-    /// The designs whose verdict is MARGINAL.
-    pub fn marginal_ids(&self) -> HashSet<String> {
-        self.entries
-            .iter()
-            .filter_map(|e| e.row.as_ref())
-            .filter(|r| r.verdict == Verdict::Marginal)
-            .map(|r| r.design.clone())
-            .collect()
-    }
-
-    /// Runs the marginal designs again at the next finer level, in a run folder of their own;
-    /// the other designs keep their rows (each row carries its own error band).
-    fn rerun_marginal(&mut self) -> Command {
-        if self.running() {
-            self.status = "a sweep is running: c cancels it".into();
-            return Command::None;
-        }
-        let only = self.marginal_ids();
-        if only.is_empty() {
-            self.status = "no marginal design to re-run".into();
-            return Command::None;
-        }
-        let finer = self.table_accuracy().step(true);
-        if finer == self.table_accuracy() {
-            self.status = format!(
-                "{} marginal designs at fine already: the finest level cannot settle them",
-                only.len()
-            );
-            return Command::None;
-        }
-        self.params.set_accuracy(finer);
-        let plan = self.params.plan.clone();
-        for e in &mut self.entries {
-            if only.contains(&e.design.id) {
-                e.row = None;
-            }
-        }
-        self.runs += 1;
-        let dir = self.session.join(format!("run-{}", self.runs));
-        self.table_plan = plan.clone();
-        self.run_dir = Some(dir.clone());
-        self.run = RunState::Running;
-        self.to_run = 0;
-        self.done = 0;
-        self.run_started_s = self.now_s;
-        self.status = format!("re-running {} marginal designs at {finer}", only.len());
-        Command::Start {
-            plan: Box::new(plan),
-            dir,
-            resume: false,
-            only: Some(only),
-        }
-    }
-
-    /// The accuracy level the table's plan was run at.
-    fn table_accuracy(&self) -> Accuracy {
-        Accuracy::of_element_size(self.table_plan.base_scene.mesh.element_size)
-            .unwrap_or(self.params.accuracy)
-    }
-
     /// With no results on the table and no run going, the table shows the edited grid.
-    fn follow_edits(&mut self) {
+    pub(super) fn follow_edits(&mut self) {
         if !self.running() && self.entries.iter().all(|e| e.row.is_none()) {
             self.table_plan = self.params.plan.clone();
             self.entries = entries_of(&self.table_plan);
@@ -490,7 +394,7 @@ impl App {
         }
     }
 
-    fn move_selection(&mut self, delta: isize) {
+    pub(super) fn move_selection(&mut self, delta: isize) {
         match self.focus {
             Focus::Parameters => {
                 let n = self.params.fields.len() as isize;
@@ -504,7 +408,7 @@ impl App {
     }
 
     /// The export folder that does not hold results yet: `NAME-export`, `NAME-export-2`, …
-    fn free_export_dir(&self) -> PathBuf {
+    pub(super) fn free_export_dir(&self) -> PathBuf {
         let base = self.export_dir.clone();
         let taken = |p: &Path| p.join("results.csv").exists();
         if !taken(&base) {
@@ -514,172 +418,5 @@ impl App {
             .map(|k| PathBuf::from(format!("{}-{k}", base.display())))
             .find(|p| !taken(p))
             .expect("some folder is free")
-    }
-
-    /// What a key does.
-    pub fn on_key(&mut self, key: KeyEvent) -> Command {
-        let command = self.apply_key(key);
-        self.load_selected_field();
-        command
-    }
-
-    fn apply_key(&mut self, key: KeyEvent) -> Command {
-        if key.modifiers.contains(KeyModifiers::CONTROL) && key.code == KeyCode::Char('c') {
-            return Command::Quit;
-        }
-        match self.mode.clone() {
-            Mode::Help => {
-                if key.code == KeyCode::Char('q') {
-                    return Command::Quit;
-                }
-                self.mode = Mode::Normal;
-                Command::None
-            }
-            Mode::Editing { mut buffer, .. } => {
-                match key.code {
-                    KeyCode::Esc => {
-                        self.mode = Mode::Normal;
-                        return Command::None;
-                    }
-                    KeyCode::Enter => {
-                        match self.params.commit(self.cursor, &buffer) {
-                            Ok(()) => {
-                                self.mode = Mode::Normal;
-                                self.follow_edits();
-                            }
-                            Err(e) => {
-                                self.mode = Mode::Editing {
-                                    buffer,
-                                    error: Some(e),
-                                }
-                            }
-                        }
-                        return Command::None;
-                    }
-                    KeyCode::Backspace => {
-                        buffer.pop();
-                    }
-                    KeyCode::Char(c) => buffer.push(c),
-                    _ => return Command::None,
-                }
-                let error = self.params.check(self.cursor, &buffer).err();
-                self.mode = Mode::Editing { buffer, error };
-                Command::None
-            }
-            Mode::Exporting { mut buffer } => {
-                match key.code {
-                    KeyCode::Esc => self.mode = Mode::Normal,
-                    KeyCode::Enter => {
-                        self.mode = Mode::Normal;
-                        let to = PathBuf::from(buffer.trim());
-                        if buffer.trim().is_empty() {
-                            self.status = "export: expected a folder".into();
-                            return Command::None;
-                        }
-                        if to.join("results.csv").exists() {
-                            self.status = format!(
-                                "export: {} already holds results; choose another folder",
-                                to.display()
-                            );
-                            return Command::None;
-                        }
-                        let Some(from) = self.run_dir.clone() else {
-                            return Command::None;
-                        };
-                        self.export_dir = to.clone();
-                        self.status = format!("exporting to {} …", to.display());
-                        return Command::Export { from, to };
-                    }
-                    KeyCode::Backspace => {
-                        buffer.pop();
-                        self.mode = Mode::Exporting { buffer };
-                    }
-                    KeyCode::Char(c) => {
-                        buffer.push(c);
-                        self.mode = Mode::Exporting { buffer };
-                    }
-                    _ => {}
-                }
-                Command::None
-            }
-            Mode::Detail => {
-                match key.code {
-                    KeyCode::Char('q') => return Command::Quit,
-                    KeyCode::Up | KeyCode::Char('k') => self.move_selection(-1),
-                    KeyCode::Down | KeyCode::Char('j') => self.move_selection(1),
-                    KeyCode::Char('?') => self.mode = Mode::Help,
-                    _ => self.mode = Mode::Normal,
-                }
-                Command::None
-            }
-            Mode::Normal => self.on_normal_key(key),
-        }
-    }
-
-    fn on_normal_key(&mut self, key: KeyEvent) -> Command {
-        match key.code {
-            KeyCode::Char('q') => return Command::Quit,
-            KeyCode::Char('?') => self.mode = Mode::Help,
-            KeyCode::Tab | KeyCode::BackTab => {
-                self.focus = match self.focus {
-                    Focus::Parameters => Focus::Results,
-                    Focus::Results => Focus::Parameters,
-                }
-            }
-            KeyCode::Char('r') => return self.start(),
-            KeyCode::Char('m') => return self.rerun_marginal(),
-            KeyCode::Char('c') | KeyCode::Esc if self.run == RunState::Running => {
-                self.run = RunState::Stopping;
-                self.status =
-                    "cancelling: the designs on the workers stop at their next load step".into();
-                return Command::Cancel;
-            }
-            KeyCode::Char('e') => {
-                if self.entries.iter().any(|e| e.row.is_some()) && self.run_dir.is_some() {
-                    self.mode = Mode::Exporting {
-                        buffer: self.free_export_dir().display().to_string(),
-                    };
-                } else {
-                    self.status = "nothing to export yet: r runs the sweep".into();
-                }
-            }
-            KeyCode::Char('s') => {
-                self.sort.column = (self.sort.column + 1) % self.sort_columns();
-                self.sort.descending = false;
-            }
-            KeyCode::Char('S') => self.sort.descending = !self.sort.descending,
-            KeyCode::Char('f') => {
-                self.feasible_only = !self.feasible_only;
-                self.selected = 0;
-            }
-            KeyCode::Up | KeyCode::Char('k') => self.move_selection(-1),
-            KeyCode::Down | KeyCode::Char('j') => self.move_selection(1),
-            KeyCode::PageUp => self.move_selection(-10),
-            KeyCode::PageDown => self.move_selection(10),
-            KeyCode::Home | KeyCode::Char('g') => self.move_selection(-1_000_000),
-            KeyCode::End | KeyCode::Char('G') => self.move_selection(1_000_000),
-            KeyCode::Left | KeyCode::Right
-                if self.focus == Focus::Parameters
-                    && self.params.fields[self.cursor].target == Target::Accuracy =>
-            {
-                self.params.step_accuracy(key.code == KeyCode::Right);
-                self.follow_edits();
-            }
-            KeyCode::Enter => match self.focus {
-                Focus::Parameters => {
-                    self.mode = Mode::Editing {
-                        buffer: self.params.fields[self.cursor].text.clone(),
-                        error: None,
-                    }
-                }
-                Focus::Results => {
-                    if self.selected_entry().is_some() {
-                        self.mode = Mode::Detail;
-                    }
-                }
-            },
-            _ => {}
-        }
-        Command::None
     }
 }

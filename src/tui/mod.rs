@@ -8,7 +8,9 @@
 
 pub mod app;
 mod detail;
+mod keys;
 pub mod params;
+mod runs;
 pub mod shear_map;
 pub mod view;
 pub mod worker;

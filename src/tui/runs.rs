@@ -1,0 +1,104 @@
+//! Starting runs from the explorer: the grid (or its resume after a cancel), and the marginal
+//! designs again one level finer.
+
+use std::collections::HashSet;
+
+use super::app::{App, Command, RunState, entries_of};
+use crate::accuracy::Accuracy;
+use crate::verdict::Verdict;
+
+impl App {
+    /// Starts (or, after a cancel of the same grid, resumes) a run of the edited parameters.
+    pub(super) fn start(&mut self) -> Command {
+        if self.running() {
+            self.status = "a sweep is running: c cancels it".into();
+            return Command::None;
+        }
+        let plan = self.params.plan.clone();
+        let resume = matches!(self.run, RunState::Cancelled { .. })
+            && plan.sweep_hash == self.table_plan.sweep_hash
+            && self.run_dir.is_some();
+        let dir = if resume {
+            self.run_dir.clone().expect("checked")
+        } else {
+            self.runs += 1;
+            self.entries = entries_of(&plan);
+            self.fields.clear();
+            self.selected = 0;
+            self.session.join(format!("run-{}", self.runs))
+        };
+        self.table_plan = plan.clone();
+        self.run_dir = Some(dir.clone());
+        self.run = RunState::Running;
+        self.to_run = 0;
+        self.done = 0;
+        self.run_started_s = self.now_s;
+        self.status.clear();
+        Command::Start {
+            plan: Box::new(plan),
+            dir,
+            resume,
+            only: None,
+        }
+    }
+
+    /// The designs whose verdict is MARGINAL.
+    pub fn marginal_ids(&self) -> HashSet<String> {
+        self.entries
+            .iter()
+            .filter_map(|e| e.row.as_ref())
+            .filter(|r| r.verdict == Verdict::Marginal)
+            .map(|r| r.design.clone())
+            .collect()
+    }
+
+    /// Runs the marginal designs again at the next finer level, in a run folder of their own;
+    /// the other designs keep their rows (each row carries its own error band).
+    pub(super) fn rerun_marginal(&mut self) -> Command {
+        if self.running() {
+            self.status = "a sweep is running: c cancels it".into();
+            return Command::None;
+        }
+        let only = self.marginal_ids();
+        if only.is_empty() {
+            self.status = "no marginal design to re-run".into();
+            return Command::None;
+        }
+        let finer = self.table_accuracy().step(true);
+        if finer == self.table_accuracy() {
+            self.status = format!(
+                "{} marginal designs at fine already: the finest level cannot settle them",
+                only.len()
+            );
+            return Command::None;
+        }
+        self.params.set_accuracy(finer);
+        let plan = self.params.plan.clone();
+        for e in &mut self.entries {
+            if only.contains(&e.design.id) {
+                e.row = None;
+            }
+        }
+        self.runs += 1;
+        let dir = self.session.join(format!("run-{}", self.runs));
+        self.table_plan = plan.clone();
+        self.run_dir = Some(dir.clone());
+        self.run = RunState::Running;
+        self.to_run = 0;
+        self.done = 0;
+        self.run_started_s = self.now_s;
+        self.status = format!("re-running {} marginal designs at {finer}", only.len());
+        Command::Start {
+            plan: Box::new(plan),
+            dir,
+            resume: false,
+            only: Some(only),
+        }
+    }
+
+    /// The accuracy level the table's plan was run at.
+    fn table_accuracy(&self) -> Accuracy {
+        Accuracy::of_element_size(self.table_plan.base_scene.mesh.element_size)
+            .unwrap_or(self.params.accuracy)
+    }
+}
