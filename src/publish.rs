@@ -29,22 +29,11 @@ pub enum PublishError {
     Draw(#[from] DrawError),
     #[error(transparent)]
     Store(#[from] StoreError),
-    #[error("{}: cannot {action}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        action: &'static str,
-        #[source]
-        source: std::io::Error,
-    },
 }
 
 fn io(path: &Path, action: &'static str) -> impl FnOnce(std::io::Error) -> PublishError {
-    let path = path.to_path_buf();
-    move |source| PublishError::Io {
-        path,
-        action,
-        source,
-    }
+    let to_store = StoreError::io(path, action);
+    move |source| PublishError::Store(to_store(source))
 }
 
 /// Draws the maps (on `pool`), the sheet and `results.json` of the sweep folder `dir` whose

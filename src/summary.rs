@@ -99,8 +99,9 @@ impl RunSummary {
         let level = Accuracy::of_element_size(scene.mesh.element_size);
         let error = level.map(|a| a.error());
         let cell_mm = 0.5 * (scene.fabric.l0.0[0] + scene.fabric.l0.0[1]);
-        let max_shear_cell_deg = result.neighbourhood_peak(&result.shear_deg, cell_mm).1;
-        let max_tension_cell_n = result.neighbourhood_peak(&result.tension_max_n, cell_mm).1;
+        let peaks =
+            result.neighbourhood_peaks(&[&result.shear_deg, &result.tension_max_n], cell_mm);
+        let (max_shear_cell_deg, max_tension_cell_n) = (peaks[0].1, peaks[1].1);
         let facts = Facts {
             converged: result.converged,
             no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_))),

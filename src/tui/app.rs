@@ -317,8 +317,10 @@ impl App {
 
     /// Counts over the table: (with a row, feasible).
     pub fn counts(&self) -> (usize, usize) {
-        let rows: Vec<Row> = self.entries.iter().filter_map(|e| e.row.clone()).collect();
-        (rows.len(), counts(&rows).feasible)
+        let rows = self.entries.iter().filter_map(|e| e.row.as_ref());
+        let c = counts(rows);
+        let done = c.feasible + c.marginal + c.infeasible + c.failed + c.invalid;
+        (done, c.feasible)
     }
 
     /// Seconds left, from the pace of the designs finished in this run.

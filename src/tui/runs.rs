@@ -27,18 +27,29 @@ impl App {
             self.selected = 0;
             self.session.join(format!("run-{}", self.runs))
         };
+        self.status.clear();
+        self.begin_run(plan, dir, resume, None)
+    }
+
+    /// The run state of a run that starts now, and the command that starts it.
+    fn begin_run(
+        &mut self,
+        plan: crate::study::sweep::Plan,
+        dir: std::path::PathBuf,
+        resume: bool,
+        only: Option<HashSet<String>>,
+    ) -> Command {
         self.table_plan = plan.clone();
         self.run_dir = Some(dir.clone());
         self.run = RunState::Running;
         self.to_run = 0;
         self.done = 0;
         self.run_started_s = self.now_s;
-        self.status.clear();
         Command::Start {
             plan: Box::new(plan),
             dir,
             resume,
-            only: None,
+            only,
         }
     }
 
@@ -81,19 +92,8 @@ impl App {
         }
         self.runs += 1;
         let dir = self.session.join(format!("run-{}", self.runs));
-        self.table_plan = plan.clone();
-        self.run_dir = Some(dir.clone());
-        self.run = RunState::Running;
-        self.to_run = 0;
-        self.done = 0;
-        self.run_started_s = self.now_s;
         self.status = format!("re-running {} marginal designs at {finer}", only.len());
-        Command::Start {
-            plan: Box::new(plan),
-            dir,
-            resume: false,
-            only: Some(only),
-        }
+        self.begin_run(plan, dir, false, Some(only))
     }
 
     /// The accuracy level the table's plan was run at.

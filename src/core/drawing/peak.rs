@@ -17,6 +17,11 @@ impl DrawingResult {
     /// When a quarter was solved its mirror images (about x = 0 and y = 0) are counted, so an
     /// element by a symmetry plane sees the whole disc. `(0, 0.0)` for an empty field.
     pub fn neighbourhood_peak(&self, values: &[f64], radius_mm: f64) -> (usize, f64) {
+        self.neighbourhood_peaks(&[values], radius_mm)[0]
+    }
+
+    /// [`DrawingResult::neighbourhood_peak`] of several fields, with one neighbour search.
+    pub fn neighbourhood_peaks(&self, fields: &[&[f64]], radius_mm: f64) -> Vec<(usize, f64)> {
         let m = &self.mesh;
         let (centres, areas): (Vec<[f64; 2]>, Vec<f64>) = m
             .quads
@@ -45,23 +50,29 @@ impl DrawingResult {
                 buckets.entry(cell(p)).or_default().push((p, e));
             }
         }
-        let mut best = (0, 0.0);
+        let mut best = vec![(0, 0.0); fields.len()];
+        let mut sums = vec![0.0; fields.len()];
         for (e, c) in centres.iter().enumerate() {
             let (i, j) = cell(*c);
-            let (mut weight, mut sum) = (0.0, 0.0);
+            let mut weight = 0.0;
+            sums.fill(0.0);
             for di in -1..=1 {
                 for dj in -1..=1 {
                     for (p, f) in buckets.get(&(i + di, j + dj)).into_iter().flatten() {
                         let d = [p[0] - c[0], p[1] - c[1]];
                         if d[0] * d[0] + d[1] * d[1] <= r * r {
                             weight += areas[*f];
-                            sum += areas[*f] * values[*f].abs();
+                            for (sum, values) in sums.iter_mut().zip(fields) {
+                                *sum += areas[*f] * values[*f].abs();
+                            }
                         }
                     }
                 }
             }
-            if weight > 0.0 && sum / weight > best.1 {
-                best = (e, sum / weight);
+            for (b, sum) in best.iter_mut().zip(&sums) {
+                if weight > 0.0 && sum / weight > b.1 {
+                    *b = (e, sum / weight);
+                }
             }
         }
         best

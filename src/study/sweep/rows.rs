@@ -262,7 +262,7 @@ pub struct Counts {
     pub invalid: usize,
 }
 
-pub fn counts(rows: &[Row]) -> Counts {
+pub fn counts<'a>(rows: impl IntoIterator<Item = &'a Row>) -> Counts {
     let mut c = Counts::default();
     for r in rows {
         match r.verdict {

@@ -46,12 +46,15 @@ pub enum StoreError {
     },
 }
 
-fn io(path: &Path, action: &'static str) -> impl FnOnce(std::io::Error) -> StoreError {
-    let path = path.to_path_buf();
-    move |source| StoreError::Io {
-        path,
-        action,
-        source,
+impl StoreError {
+    /// The error maker for a failed `action` ("write", "read", …) on `path`.
+    pub fn io(path: &Path, action: &'static str) -> impl FnOnce(std::io::Error) -> StoreError {
+        let path = path.to_path_buf();
+        move |source| StoreError::Io {
+            path,
+            action,
+            source,
+        }
     }
 }
 
@@ -81,17 +84,18 @@ pub fn read_lock(dir: &Path) -> Result<Lock, StoreError> {
 pub fn write_atomic(path: &Path, text: &str) -> Result<(), StoreError> {
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
     let dir = dir.unwrap_or(Path::new("."));
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(io(dir, "write"))?;
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(StoreError::io(dir, "write"))?;
     tmp.write_all(text.as_bytes())
-        .map_err(io(tmp.path(), "write"))?;
-    tmp.persist(path).map_err(|e| io(path, "write")(e.error))?;
+        .map_err(StoreError::io(tmp.path(), "write"))?;
+    tmp.persist(path)
+        .map_err(|e| StoreError::io(path, "write")(e.error))?;
     Ok(())
 }
 
 /// Creates `dir`, `dir/maps` and `dir/fields` and writes `dir/sweep.lock`.
 pub fn prepare_dir(dir: &Path, plan: &Plan, shard: Option<Shard>) -> Result<(), StoreError> {
     for d in [dir.to_path_buf(), dir.join("maps"), dir.join("fields")] {
-        fs::create_dir_all(&d).map_err(io(&d, "write the output folder"))?;
+        fs::create_dir_all(&d).map_err(StoreError::io(&d, "write the output folder"))?;
     }
     let lock = Lock {
         program: "wovenform".into(),
@@ -164,7 +168,7 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
     let mut text = match fs::read(&path) {
         Ok(b) => String::from_utf8_lossy(&b).into_owned(),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Default::default()),
-        Err(e) => return Err(io(&path, "read")(e)),
+        Err(e) => return Err(StoreError::io(&path, "read")(e)),
     };
     let mut report = ReadReport::default();
     // A last line without its newline was being written when the program stopped.
