@@ -27,22 +27,23 @@ pub struct RunSummary {
     /// The verdict itself (the rule's answer; `verdict` says it in words).
     #[serde(skip)]
     pub judged: Verdict,
-    /// Largest |shear angle|, degrees, and where (final position of the element's centre, mm,
-    /// in the solved part).
+    /// The peak |shear angle|, degrees: the largest mean over a disc of one woven cell
+    /// (`cell_mm`, the cell's mean side, as radius) around an element, in the undeformed blank;
+    /// and where (final position of that element's centre, mm, in the solved part). It is what
+    /// the verdict compares with the locking angle (README, "Accuracy and speed").
     pub max_shear_deg: f64,
     pub max_shear_at: [f64; 3],
     pub locking_angle_deg: f64,
-    /// Share of the blank's initial area sheared past the locking angle, %.
+    /// Share of the blank's initial area whose elements are sheared past the locking angle, %.
     pub area_over_limit_pct: f64,
-    /// Largest yarn tension, N, and the breaking tension, N.
+    /// The peak yarn tension over one woven cell, as `max_shear_deg`, N.
     pub max_tension_n: f64,
-    /// The same peaks over one woven cell: the largest mean |shear| (degrees) and mean largest
-    /// yarn tension (N) over a disc of `cell_mm` (the cell's mean side) around an element, in
-    /// the undeformed blank. They converge under mesh refinement where the element maxima
-    /// jump (README, "Accuracy and speed"); not yet what the verdict uses.
-    pub max_shear_cell_deg: f64,
-    pub max_tension_cell_n: f64,
+    /// The radius of the peaks' disc, mm.
     pub cell_mm: f64,
+    /// The same figures at the scale of one element (the largest element value): they keep
+    /// moving as the mesh is refined, so no verdict uses them.
+    pub max_shear_element_deg: f64,
+    pub max_tension_element_n: f64,
     pub break_tension_n: f64,
     /// Punch force on the whole blank at the end, N.
     pub punch_force_n: f64,
@@ -55,7 +56,8 @@ pub struct RunSummary {
     pub draw_in_mm: f64,
     pub wall_s: f64,
     /// The accuracy level of the scene's mesh (`coarse`, `standard`, `fine`), when it is one,
-    /// and that level's measured errors (see `crate::accuracy`).
+    /// and that level's errors on these tools (see `crate::accuracy`: measured, and wider
+    /// for radii under 5 mm).
     pub accuracy: Option<String>,
     pub max_shear_err_deg: Option<f64>,
     pub punch_force_err_pct: Option<f64>,
@@ -67,6 +69,9 @@ pub struct RunSummary {
     pub steps: u32,
     pub cutbacks: u32,
     pub newton_iterations: u32,
+    /// Steps on which Newton stalled even at the smallest increment and that ended within ten
+    /// force tolerances of balance (README, "Accuracy and speed").
+    pub relaxed_steps: u32,
     /// Work done by forces out of balance over the punch's work (dimensionless): what of the
     /// punch's work is not the paper's model. The stabilisation damps the Newton corrections
     /// only, so a converged state carries none of it.
@@ -97,11 +102,7 @@ impl RunSummary {
             Vec::new()
         };
         let level = Accuracy::of_element_size(scene.mesh.element_size);
-        let error = level.map(|a| a.error());
-        let cell_mm = 0.5 * (scene.fabric.l0.0[0] + scene.fabric.l0.0[1]);
-        let peaks =
-            result.neighbourhood_peaks(&[&result.shear_deg, &result.tension_max_n], cell_mm);
-        let (max_shear_cell_deg, max_tension_cell_n) = (peaks[0].1, peaks[1].1);
+        let error = level.map(|a| a.error_for(scene.tools.smallest_radius_mm()));
         let facts = Facts {
             converged: result.converged,
             no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_))),
@@ -135,9 +136,9 @@ impl RunSummary {
             locking_angle_deg: locking,
             area_over_limit_pct: result.area_over_limit_pct(locking),
             max_tension_n,
-            max_shear_cell_deg,
-            max_tension_cell_n,
-            cell_mm,
+            cell_mm: result.cell_mm,
+            max_shear_element_deg: result.max_shear_element().1,
+            max_tension_element_n: result.max_tension_element_n(),
             break_tension_n: breaking,
             punch_force_n: result.punch_force_n,
             stroke_mm: scene.process.stroke,
@@ -155,6 +156,7 @@ impl RunSummary {
             steps: result.stats.steps,
             cutbacks: result.stats.cutbacks,
             newton_iterations: result.stats.newton_iterations,
+            relaxed_steps: result.stats.relaxed_steps,
             stabilisation_work_share: result.unbalanced_work_share,
             unsound,
             mechanism: result.stats.mechanism,

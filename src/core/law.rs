@@ -36,6 +36,11 @@ pub struct CellParams {
 }
 
 impl CellParams {
+    /// The cell's mean side, mm: the scale the homogenised law describes.
+    pub fn cell_mm(&self) -> f64 {
+        0.5 * (self.l0[0] + self.l0[1])
+    }
+
     /// The paper's plain-weave glass fabric (eqs 6–7), undulation on.
     pub const PAPER_GLASS: CellParams = CellParams {
         l0: [4.76, 4.76],

@@ -73,6 +73,9 @@ pub struct FieldMap {
     pub unit: Unit,
     /// Where the largest value is (plan, mm), marked on the map.
     pub max_at: Option<[f64; 2]>,
+    /// The peak over a woven cell there (the figure the verdict uses), for the marker's label;
+    /// the colour bar marks the largest element value.
+    pub peak: Option<f64>,
     /// The die opening in plan, a closed polyline (mm); empty for none.
     pub die_opening: Vec<[f64; 2]>,
     /// Image size in pixels.
@@ -143,7 +146,7 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
     let c = result.element_centre(e);
     FieldMap {
         title: format!(
-            "{}: max shear {} (locking {}) — {}",
+            "{}: max shear {} over a woven cell (locking {}) — {}",
             ctx.scene,
             Unit::Degrees.show(max),
             Unit::Degrees.show(locking_angle_deg),
@@ -157,6 +160,7 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
         bar_caption: "shear (°)".into(),
         unit: Unit::Degrees,
         max_at: (!result.shear_deg.is_empty()).then_some([c[0], c[1]]),
+        peak: Some(max),
         die_opening: die_opening_outline(&ctx.tooling),
         size: (1100, 900),
         scale_max: None,
@@ -166,15 +170,12 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
 /// The map of the largest yarn tension of each element (N per yarn).
 pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f64) -> FieldMap {
     let values = &result.tension_max_n;
-    let (e, max) = values
-        .iter()
-        .enumerate()
-        .fold((0, 0.0), |a, (i, &v)| if v > a.1 { (i, v) } else { a });
+    let (e, max) = result.neighbourhood_peak(values, result.cell_mm);
     let (quads, values) = full_blank(result, values);
     let c = result.element_centre(e);
     FieldMap {
         title: format!(
-            "{}: max yarn tension {} ({:.0} % of the break) — {}",
+            "{}: max yarn tension {} over a woven cell ({:.0} % of the break) — {}",
             ctx.scene,
             Unit::Newtons.show(max),
             100.0 * max / break_tension_n,
@@ -188,6 +189,7 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
         bar_caption: "tension (N)".into(),
         unit: Unit::Newtons,
         max_at: (max > 0.0).then_some([c[0], c[1]]),
+        peak: Some(max),
         die_opening: die_opening_outline(&ctx.tooling),
         size: (1100, 900),
         scale_max: None,
@@ -358,9 +360,15 @@ impl FieldMap {
             )
             .map_err(|e| err(&e))?;
         if let Some(at) = self.max_at {
-            let max = self.values.iter().cloned().fold(0.0, f64::max);
+            let label = match self.peak {
+                Some(peak) => format!("cell peak {}", self.unit.show(peak)),
+                None => format!(
+                    "max {}",
+                    self.unit
+                        .show(self.values.iter().cloned().fold(0.0, f64::max))
+                ),
+            };
             let style = ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3);
-            let label = format!("max {}", self.unit.show(max));
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at((at[0], at[1]))
@@ -461,8 +469,12 @@ impl FieldMap {
         ))
         .map_err(|e| err(&e))?;
         if y_max < y_limit - 24 || y_max > y_limit + 50 {
-            root.draw(&text(format!("max {}", self.unit.show(max)), y_max, false))
-                .map_err(|e| err(&e))?;
+            root.draw(&text(
+                format!("element {}", self.unit.show(max)),
+                y_max,
+                false,
+            ))
+            .map_err(|e| err(&e))?;
         }
         // The caption above the bar.
         root.draw(&Text::new(
@@ -540,6 +552,7 @@ mod tests {
             bar_caption: String::new(),
             unit: Unit::Degrees,
             max_at: None,
+            peak: None,
             die_opening: Vec::new(),
             size: (100, 100),
             scale_max: None,

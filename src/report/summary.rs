@@ -71,20 +71,20 @@ impl RunSummary {
         let [x, y, z] = self.max_shear_at;
         let _ = writeln!(
             out,
-            "max shear    {:.1}° at ({x:.1}, {y:.1}, {z:.1}) mm; locking angle {}°; {:.2} % of the blank over it",
+            "max shear    {:.1}° over one woven cell, around ({x:.1}, {y:.1}, {z:.1}) mm; locking angle {}°; {:.2} % of the blank over it",
             self.max_shear_deg, self.locking_angle_deg, self.area_over_limit_pct
         );
         let _ = writeln!(
             out,
-            "max tension  {:.1} N per yarn; break tension {} N ({:.0} %)",
+            "max tension  {:.1} N per yarn over one woven cell; break tension {} N ({:.0} %)",
             self.max_tension_n,
             self.break_tension_n,
             100.0 * self.max_tension_n / self.break_tension_n
         );
         let _ = writeln!(
             out,
-            "cell peaks   {:.1}° of shear, {:.1} N of tension averaged over one woven cell ({:.2} mm) around an element",
-            self.max_shear_cell_deg, self.max_tension_cell_n, self.cell_mm
+            "one element  {:.1}° of shear, {:.1} N of tension at the most loaded element (the figures above are means over a disc of {:.2} mm radius)",
+            self.max_shear_element_deg, self.max_tension_element_n, self.cell_mm
         );
         let _ = writeln!(
             out,
@@ -98,7 +98,7 @@ impl RunSummary {
         );
         let _ = writeln!(
             out,
-            "solver       {} steps, {} cut-backs, {} Newton iterations, {:.2} s; forces out of balance did {:.1e} % of the punch's work{}",
+            "solver       {} steps, {} cut-backs, {} Newton iterations, {:.2} s; forces out of balance did {:.1e} % of the punch's work{}{}",
             self.steps,
             self.cutbacks,
             self.newton_iterations,
@@ -108,6 +108,14 @@ impl RunSummary {
                 "; a singular tangent was met (part of the blank was a mechanism)"
             } else {
                 ""
+            },
+            if self.relaxed_steps > 0 {
+                format!(
+                    "; {} steps stalled and ended within ten force tolerances",
+                    self.relaxed_steps
+                )
+            } else {
+                String::new()
             }
         );
         let _ = match (
@@ -118,8 +126,16 @@ impl RunSummary {
         ) {
             (Some(level), Some(shear), Some(force), Some(tension)) => writeln!(
                 out,
-                "accuracy     {level} ({} mm elements): max shear ±{shear}°, max tension ±{tension} %, punch force ±{force} % (measured on the paper's box)",
-                self.inputs.mesh.element_size
+                "accuracy     {level} ({} mm elements): max shear ±{shear:.1}°, max tension ±{tension:.0} %, punch force ±{force:.1} % ({})",
+                self.inputs.mesh.element_size,
+                if self.inputs.tools.smallest_radius_mm() < crate::accuracy::MEASURED_RADIUS_MM {
+                    format!(
+                        "the level's measured error, grown for the {:.1} mm radius",
+                        self.inputs.tools.smallest_radius_mm()
+                    )
+                } else {
+                    "measured over the paper's grid of tools and the presets".to_string()
+                }
             ),
             _ => writeln!(
                 out,

@@ -156,6 +156,9 @@ pub struct BoxRun {
     pub assembly_s: f64,
     pub contact_s: f64,
     pub bare_factor_solve_s: f64,
+    /// The peaks over one woven cell (shear and tension) on the final state, s: what the
+    /// verdict's figures cost beyond the solve.
+    pub cell_peaks_s: f64,
     /// What the run found: max shear (°), max tension (N), punch force (N).
     pub max_shear_deg: f64,
     pub max_tension_n: f64,
@@ -234,7 +237,11 @@ pub fn drawing_run(
         let mut rhs = vec![1.0; n];
         black_box(solver.factor_solve_last_tangent(&mut rhs));
     });
+    let cell_peaks_s = median_time(15, || {
+        black_box((result.max_shear(), result.max_tension_n()));
+    });
     Ok(BoxRun {
+        cell_peaks_s,
         dofs: result.dofs,
         steps: stats.steps,
         newton_iterations: stats.newton_iterations,

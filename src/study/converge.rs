@@ -185,8 +185,8 @@ fn solve_rung(problem: &DrawingProblem, ladder: &'static str) -> Rung {
     let start = std::time::Instant::now();
     let r = drawing::solve(problem, &mut |_| {});
     let wall_s = start.elapsed().as_secs_f64();
-    let max_shear = r.shear_deg.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
-    let max_tension = r.tension_max_n.iter().fold(0.0_f64, |m, t| m.max(*t));
+    let max_shear = r.max_shear().1;
+    let max_tension = r.max_tension_n();
     Rung {
         ladder,
         element_size_mm: problem.element_size,

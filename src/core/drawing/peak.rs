@@ -99,6 +99,7 @@ mod tests {
             failure: None,
             quarter,
             element_size_mm: 1.0,
+            cell_mm: 4.76,
             positions: mesh.nodes.clone(),
             shear_deg: vec![0.0; ne],
             t11_n: vec![0.0; ne],

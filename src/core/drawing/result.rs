@@ -53,6 +53,9 @@ pub struct DrawingResult {
     pub mesh: Mesh,
     /// Target element size, mm.
     pub element_size_mm: f64,
+    /// The woven cell's mean side, mm: the radius of the neighbourhood the peaks are taken over
+    /// ([`DrawingResult::max_shear`], [`DrawingResult::max_tension_n`]).
+    pub cell_mm: f64,
     /// Final nodal positions, mm.
     pub positions: Vec<[f64; 3]>,
     /// Shear angle of each element, degrees (signed).
@@ -88,8 +91,17 @@ pub struct DrawingResult {
 }
 
 impl DrawingResult {
-    /// The element with the largest absolute shear, and that shear (degrees).
+    /// The peak shear the verdict compares with the locking angle: the largest mean |shear|
+    /// (degrees) over a disc of one woven cell ([`DrawingResult::cell_mm`]) in the undeformed
+    /// blank, and the element at the disc's centre (see `peak.rs`). Unlike the largest element
+    /// value it does not hang on how finely a corner happens to be meshed.
     pub fn max_shear(&self) -> (usize, f64) {
+        self.neighbourhood_peak(&self.shear_deg, self.cell_mm)
+    }
+
+    /// The element with the largest absolute shear, and that shear (degrees): the peak at the
+    /// scale of one element, which keeps rising as the mesh is refined.
+    pub fn max_shear_element(&self) -> (usize, f64) {
         self.shear_deg
             .iter()
             .enumerate()
@@ -126,8 +138,15 @@ impl DrawingResult {
         }
     }
 
-    /// The largest yarn tension anywhere, N.
+    /// The peak yarn tension the verdict compares with the breaking tension, N: the largest
+    /// mean of the elements' largest yarn tensions over a disc of one woven cell, as
+    /// [`DrawingResult::max_shear`].
     pub fn max_tension_n(&self) -> f64 {
+        self.neighbourhood_peak(&self.tension_max_n, self.cell_mm).1
+    }
+
+    /// The largest yarn tension of any element, N.
+    pub fn max_tension_element_n(&self) -> f64 {
         self.tension_max_n.iter().fold(0.0, |a, &b| a.max(b))
     }
 

@@ -3,9 +3,9 @@
 
 use std::ops::ControlFlow;
 
-use super::Solver;
 use super::newton::{History, NewtonError};
 use super::terms::{NodalTerms, Prescribed};
+use super::{RELAXED_TOLERANCE, Solver};
 
 /// Why a run stopped short.
 #[derive(Clone, Debug, PartialEq)]
@@ -96,6 +96,10 @@ impl Solver<'_> {
             };
             match self.attempt(&attempt, prescribed, terms, previous.as_ref()) {
                 Ok((iterations, history)) => {
+                    if self.relax > 1.0 {
+                        self.stats.relaxed_steps += 1;
+                        self.relax = 1.0;
+                    }
                     let du = self.accept(&attempt, history);
                     terms.end_step(attempt.target, &self.model.positions());
                     previous = Some((attempt.target - lambda, du));
@@ -111,6 +115,15 @@ impl Solver<'_> {
                     // starts cautious (resetting it made the stiffest fabrics fail).
                     self.model.u = attempt.u_start;
                     self.model.crimp = attempt.crimp_start;
+                    let relaxed = self.relax > 1.0;
+                    self.relax = 1.0;
+                    if step * 0.25 < self.options.min_step && !relaxed {
+                        // The last chance: the same increment, ending within RELAXED_TOLERANCE
+                        // tolerances of balance.
+                        self.relax = RELAXED_TOLERANCE;
+                        previous = None;
+                        continue;
+                    }
                     self.stats.cutbacks += 1;
                     step *= 0.25;
                     previous = None;

@@ -56,7 +56,7 @@ pub fn field_map(field: &StoredField, label: &str, scale_max: f64) -> FieldMap {
     let (quads, values) = full_blank(field);
     FieldMap {
         title: format!(
-            "{label}: max shear {} (locking {}) — {}",
+            "{label}: max shear {} over a woven cell (locking {}) — {}",
             Unit::Degrees.show(field.max_shear_deg),
             Unit::Degrees.show(field.locking_angle_deg),
             field.verdict
@@ -69,6 +69,7 @@ pub fn field_map(field: &StoredField, label: &str, scale_max: f64) -> FieldMap {
         bar_caption: "shear (°)".into(),
         unit: Unit::Degrees,
         max_at: field.max_at,
+        peak: Some(field.max_shear_deg),
         die_opening: field.die_opening.clone(),
         size: (1100, 900),
         scale_max: Some(scale_max),
