@@ -2,6 +2,7 @@
 //! drawing fits in it.
 
 use crate::core::drawing::DrawingProblem;
+use crate::scene::Num;
 
 /// The memory one run may take, bytes: 80 % of what the system reported available
 /// (`MemAvailable` in `/proc/meminfo`) when first asked, or of 10 GiB where it does not say.
@@ -60,17 +61,25 @@ pub fn check_fits(problem: &DrawingProblem, budget: f64) -> Result<(), String> {
         "expected a smaller blank.size".to_string()
     };
     Err(format!(
-        "mesh.element_size = {} mm on a {} × {} mm blank: {:.2e} elements ({} solved) would need about {} of memory, but a run may use at most {} on this machine (80 % of what is available): {advice}",
-        problem.element_size,
-        problem.blank[0],
-        problem.blank[1],
-        size.elements,
+        "mesh.element_size = {} mm on a {} × {} mm blank: {} elements ({} solved) would need {}, but a run may use at most {} on this machine (80 % of what is available): {advice}",
+        Num(problem.element_size),
+        Num(problem.blank[0]),
+        Num(problem.blank[1]),
+        if size.elements.is_finite() {
+            format!("{:.2e}", size.elements)
+        } else {
+            "too many".to_string()
+        },
         if problem.quarter_applies() {
             "a quarter"
         } else {
             "the full blank"
         },
-        show_bytes(size.bytes),
+        if size.bytes.is_finite() {
+            format!("about {} of memory", show_bytes(size.bytes))
+        } else {
+            "unbounded memory".to_string()
+        },
         show_bytes(budget),
     ))
 }

@@ -73,6 +73,28 @@ pub fn sweep_report(
     ])
 }
 
+/// The files [`write_run`] writes into its folder.
+pub const RUN_FILES: [&str; 4] = ["summary.json", "shear.png", "tension.png", "result.vtu"];
+
+/// Makes `dir` ready for [`write_run`] before any solving: the folder created, writable, and
+/// none of the run's files in it a folder. Errors name the path and what is wrong.
+pub fn prepare_run_dir(dir: &Path) -> Result<(), PublishError> {
+    std::fs::create_dir_all(dir).map_err(io(dir, "create the output folder"))?;
+    tempfile::NamedTempFile::new_in(dir).map_err(io(dir, "write into the output folder"))?;
+    for name in RUN_FILES {
+        let path = dir.join(name);
+        if path.is_dir() {
+            return Err(StoreError::Io {
+                path,
+                action: "write the run's file",
+                source: std::io::Error::other("a folder of that name is in the way"),
+            }
+            .into());
+        }
+    }
+    Ok(())
+}
+
 /// Writes `shear.png`, `tension.png`, `result.vtu` and `summary.json` into `dir` (created if
 /// needed), records them in `summary.files`, and returns their paths. Errors name the file.
 pub fn write_run(

@@ -404,3 +404,55 @@ fn an_accuracy_level_sets_the_mesh_and_reports_its_error() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(common::text(&bad.stderr).contains("coarse, standard or fine"));
 }
+
+#[test]
+fn an_unusable_output_is_refused_before_solving() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("taken"), "a file").unwrap();
+    let out = wovenform_in(
+        dir.path(),
+        &["run", &preset("paper-box-tight.toml"), "--out", "taken"],
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("taken") && err.contains("output folder"),
+        "{err}"
+    );
+    // Refused before the solve: no summary was printed.
+    assert!(out.stdout.is_empty(), "{}", text(&out.stdout));
+}
+
+#[test]
+fn the_inputs_of_a_summary_run_back_as_a_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    for (scene, extra) in [
+        ("paper-box-open.toml", &QUICK[..]),
+        (
+            "hemisphere.toml",
+            &["--set", "mesh.element_size=5", "--set", "process.stroke=4"][..],
+        ),
+    ] {
+        let first = wovenform_in(
+            dir.path(),
+            &[&["run", &preset(scene), "--json", "--out", "a"], extra].concat(),
+        );
+        assert!(first.status.success(), "{}", text(&first.stderr));
+        let m: Value = serde_json::from_slice(&first.stdout).unwrap();
+        // The inputs hold only the keys of their kind of punch.
+        let tools = m["inputs"]["tools"].as_object().unwrap();
+        let box_keys = ["side", "r", "rp"].iter().any(|k| tools.contains_key(*k));
+        assert_eq!(box_keys, scene.starts_with("paper-box"), "{tools:?}");
+        assert_eq!(tools.contains_key("radius"), scene == "hemisphere.toml");
+        assert!(!tools.contains_key("axes"), "{tools:?}");
+        // Written as TOML, they are a scene that runs to the same figures.
+        let toml_text = toml::to_string(&m["inputs"]).unwrap();
+        std::fs::write(dir.path().join("again.toml"), toml_text).unwrap();
+        let again = wovenform_in(dir.path(), &["run", "again.toml", "--json", "--out", "b"]);
+        assert!(again.status.success(), "{}", text(&again.stderr));
+        let n: Value = serde_json::from_slice(&again.stdout).unwrap();
+        for k in ["max_shear_deg", "max_tension_n", "punch_force_n"] {
+            assert_eq!(m[k], n[k], "{scene}: {k}");
+        }
+    }
+}

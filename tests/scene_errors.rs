@@ -183,6 +183,36 @@ fn wrong_types_and_kinds() {
 }
 
 #[test]
+fn set_edges_are_named_and_numbers_stay_short() {
+    let open = preset("paper-box-open.toml");
+    // Everything after a line break in a --set used to be dropped silently.
+    assert_rejected(
+        &open,
+        &["--set", "tools.r=7.5\ntools.rp=3"],
+        &["--set tools.r=7.5\\ntools.rp=3", "line break"],
+    );
+    // Switching a box scene to a hemisphere would drop its r, rp and side.
+    assert_rejected(
+        &open,
+        &["--set", "tools.kind=\"hemisphere\""],
+        &["--set tools.kind", "drop the scene file's tools."],
+    );
+    // 1e308 is written as 1e308, not as 309 digits.
+    assert_rejected(&open, &["--set", "tools.r=1e308"], &["tools.r = 1e308:"]);
+    assert_rejected(
+        &open,
+        &["--set", "mesh.element_size=1e-300"],
+        &["mesh.element_size = 1e-300 mm", "unbounded memory"],
+    );
+    let o = wovenform(&["run", &open, "--set", "tools.r=1e308"]);
+    assert!(
+        o.stderr.len() < 400,
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[test]
 fn a_mesh_too_large_for_the_machine_is_refused_before_any_allocation() {
     // 0.001 mm elements on the 170 mm blank: 7e9 elements, tens of TiB. Refused with the size,
     // the memory it would need and what would fit, before a byte of the mesh exists (the

@@ -45,6 +45,9 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
+    // The output folder is checked before the solve, so a bad one costs nothing.
+    let dir = args.out.unwrap_or_else(|| Path::new("out").join(&name));
+    wovenform::publish::prepare_run_dir(&dir).map_err(|e| CliError::bad_input(e.to_string()))?;
     let problem = scene.to_problem();
     let bar = stroke_bar(problem.stroke);
     let start = std::time::Instant::now();
@@ -59,7 +62,6 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
     let wall_s = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let mut summary = RunSummary::new(&name, &scene, &result, wall_s);
-    let dir = args.out.unwrap_or_else(|| Path::new("out").join(&name));
     write_run(&dir, &mut summary, &result, &problem.tooling)?;
     if args.json {
         println!("{}", summary.to_json());

@@ -12,6 +12,7 @@ use super::progress::stderr_bar;
 use super::scene_args::{parse_accuracy, with_accuracy};
 use wovenform::accuracy::Accuracy;
 use wovenform::publish;
+use wovenform::report::plural;
 use wovenform::report::sweep::table;
 use wovenform::study::sweep::{self, Outcome, Plan, Progress, Shard, counts};
 
@@ -43,8 +44,24 @@ pub struct SweepArgs {
 
 pub fn exec(args: SweepArgs) -> Result<(), CliError> {
     let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
+    // More workers than designs or cores would only start idle or competing threads.
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = args
+        .jobs
+        .map(|j| j.min(plan.len().max(1)).min(cores.max(1)));
+    if let (Some(asked), Some(used)) = (args.jobs, jobs)
+        && used < asked
+    {
+        eprintln!(
+            "--jobs {asked}: {} design{} on {cores} core{}, so {used} worker{}",
+            plan.len(),
+            plural(plan.len()),
+            plural(cores),
+            plural(used)
+        );
+    }
     let options = sweep::Options {
-        jobs: args.jobs,
+        jobs,
         shard: args.shard,
         resume: args.resume,
         ..sweep::Options::default()
@@ -55,12 +72,14 @@ pub fn exec(args: SweepArgs) -> Result<(), CliError> {
         "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} designs, {msg}, ETA {eta}",
     );
     bar.set_message("0 feasible");
-    let progress = |p: Progress| show_progress(&bar, &args, p);
+    let per_design_s = wovenform::accuracy::run_seconds_estimate(&plan.base_scene);
+    let workers = jobs.unwrap_or(cores);
+    let progress = |p: Progress| show_progress(&bar, &args, p, per_design_s, workers);
     let outcome = sweep::run(&plan, &args.out, &options, &progress);
     let mut outcome = outcome.inspect_err(|_| bar.finish_and_clear())?;
     let maps = outcome.rows.iter().filter(|r| r.map.is_some()).count();
     bar.set_message(format!("drawing {maps} maps and the report"));
-    let pool = sweep::pool(args.jobs)?;
+    let pool = sweep::pool(jobs)?;
     let drawn = publish::sweep_report(&plan, &args.out, &outcome.rows, args.shard, &pool);
     bar.finish_and_clear();
     outcome.files = drawn?;
@@ -72,10 +91,12 @@ pub fn exec(args: SweepArgs) -> Result<(), CliError> {
         0.0
     };
     println!(
-        "{} designs run in {:.1} s on {} threads ({per_min:.1} designs/min){}; {:.1} s in all",
+        "{} design{} run in {:.1} s on {} thread{} ({per_min:.1} designs/min){}; {:.1} s in all",
         outcome.ran,
+        plural(outcome.ran),
         outcome.run_wall_s,
         outcome.threads,
+        plural(outcome.threads),
         if outcome.kept.kept > 0 {
             format!(", {} rows kept from before", outcome.kept.kept)
         } else {
@@ -87,7 +108,13 @@ pub fn exec(args: SweepArgs) -> Result<(), CliError> {
 }
 
 /// The progress of a sweep on the bar (on a terminal) or a line per design (in a log).
-fn show_progress(bar: &ProgressBar, args: &SweepArgs, p: Progress) {
+fn show_progress(
+    bar: &ProgressBar,
+    args: &SweepArgs,
+    p: Progress,
+    per_design_s: f64,
+    workers: usize,
+) {
     let terminal = std::io::stderr().is_terminal();
     match p {
         Progress::Start {
@@ -95,16 +122,27 @@ fn show_progress(bar: &ProgressBar, args: &SweepArgs, p: Progress) {
             kept,
             invalid,
         } => {
+            let n = to_run + invalid;
             if args.resume {
                 bar.suspend(|| {
                     eprintln!(
-                        "resume {}: {}; {} designs to run",
+                        "resume {}: {}; {n} designs to run",
                         args.out.display(),
                         kept.describe(),
-                        to_run + invalid
                     )
                 });
             }
+            let threads = workers.min(to_run.max(1));
+            let estimate = per_design_s * to_run as f64 / threads as f64;
+            bar.suspend(|| {
+                eprintln!(
+                    "{n} design{} to run, roughly {} on {threads} worker{} (about \
+                     {per_design_s:.1} s a design at this mesh)",
+                    plural(n),
+                    duration(estimate),
+                    plural(threads),
+                )
+            });
             bar.set_length((to_run + invalid) as u64);
             if terminal {
                 bar.enable_steady_tick(std::time::Duration::from_millis(200));
@@ -155,5 +193,18 @@ pub fn print_outcome(plan: &Plan, outcome: &Outcome) {
     );
     for f in &outcome.files {
         println!("{}", f.display());
+    }
+}
+
+/// A duration for people: seconds, minutes or hours.
+fn duration(s: f64) -> String {
+    if s < 1.0 {
+        "under a second".to_string()
+    } else if s < 90.0 {
+        format!("{s:.0} s")
+    } else if s < 5400.0 {
+        format!("{:.0} min", s / 60.0)
+    } else {
+        format!("{:.1} h", s / 3600.0)
     }
 }

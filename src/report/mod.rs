@@ -12,3 +12,30 @@ pub mod sheet;
 pub mod summary;
 pub mod sweep;
 pub mod vtu;
+
+/// `v` with `decimals` decimals, never `-0.0` (a tiny negative rounds to a plain zero).
+pub fn fixed(v: f64, decimals: usize) -> String {
+    let text = format!("{v:.decimals$}");
+    match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => text,
+    }
+}
+
+/// "s" after a count other than one.
+pub fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn fixed_never_prints_minus_zero() {
+        assert_eq!(super::fixed(-0.04, 1), "0.0");
+        assert_eq!(super::fixed(-0.0, 0), "0");
+        assert_eq!(super::fixed(-0.06, 1), "-0.1");
+        assert_eq!(super::fixed(6439.23, 1), "6439.2");
+        assert_eq!(super::plural(1), "");
+        assert_eq!(super::plural(2), "s");
+    }
+}

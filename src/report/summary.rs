@@ -1,6 +1,7 @@
 //! The summary of one drawing run (`wovenform run`) as text with units, and the files written
 //! beside it.
 
+use super::{fixed, plural};
 use std::fmt::Write as _;
 
 use crate::scene::ToolKind;
@@ -76,8 +77,8 @@ impl RunSummary {
         );
         let _ = writeln!(
             out,
-            "max tension  {:.1} N per yarn over one woven cell; break tension {} N ({:.0} %)",
-            self.max_tension_n,
+            "max tension  {} N per yarn over one woven cell; break tension {} N ({:.0} %)",
+            fixed(self.max_tension_n, 1),
             self.break_tension_n,
             100.0 * self.max_tension_n / self.break_tension_n
         );
@@ -88,8 +89,10 @@ impl RunSummary {
         );
         let _ = writeln!(
             out,
-            "punch force  {:.1} N at stroke {:.2} of {} mm",
-            self.punch_force_n, self.stroke_reached_mm, self.stroke_mm
+            "punch force  {} N at stroke {:.2} of {} mm",
+            fixed(self.punch_force_n, 1),
+            self.stroke_reached_mm,
+            self.stroke_mm
         );
         let _ = writeln!(
             out,
@@ -98,10 +101,13 @@ impl RunSummary {
         );
         let _ = writeln!(
             out,
-            "solver       {} steps, {} cut-backs, {} Newton iterations, {:.2} s; forces out of balance did {:.1e} % of the punch's work{}{}",
+            "solver       {} step{}, {} cut-back{}, {} Newton iteration{}, {:.2} s; forces out of balance did {:.1e} % of the punch's work{}{}",
             self.steps,
+            plural(self.steps as usize),
             self.cutbacks,
+            plural(self.cutbacks as usize),
             self.newton_iterations,
+            plural(self.newton_iterations as usize),
             self.wall_s,
             100.0 * self.stabilisation_work_share,
             if self.mechanism {
@@ -111,8 +117,9 @@ impl RunSummary {
             },
             if self.relaxed_steps > 0 {
                 format!(
-                    "; {} steps stalled and ended within ten force tolerances",
-                    self.relaxed_steps
+                    "; {} step{} stalled and ended within ten force tolerances",
+                    self.relaxed_steps,
+                    plural(self.relaxed_steps as usize)
                 )
             } else {
                 String::new()

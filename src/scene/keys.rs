@@ -40,7 +40,7 @@ impl ToolKind {
     const ALL: [ToolKind; 3] = [ToolKind::Box, ToolKind::Ellipsoid, ToolKind::Hemisphere];
 
     /// The `[tools]` keys that describe this punch only (the others are shared).
-    fn own_keys(self) -> &'static [&'static str] {
+    pub(super) fn own_keys(self) -> &'static [&'static str] {
         match self {
             ToolKind::Box => &["side", "r", "rp"],
             ToolKind::Ellipsoid => &["axes"],
@@ -58,7 +58,8 @@ impl ToolKind {
 
 impl Scene {
     /// Rejects `[tools]` keys of another kind of punch (they would be silently ignored). When
-    /// `tools.kind` itself comes from `--set`, the file's keys for the old kind are let pass.
+    /// `tools.kind` itself comes from `--set`, the file's keys for the old kind are blamed on
+    /// that `--set`: switching a box scene to a hemisphere would drop its r, rp and side.
     pub(super) fn check_kind_keys(
         &self,
         table: &toml::Table,
@@ -70,17 +71,28 @@ impl Scene {
             return Ok(());
         };
         let kind = self.tools.kind;
-        let kind_overridden = overrides
+        let kind_set = overrides
             .iter()
-            .any(|o| o.key == "tools.kind" || o.key == "tools");
+            .rev()
+            .find(|o| o.key == "tools.kind" || o.key == "tools");
         for name in tools.keys() {
             let Some(owner) = ToolKind::owner_of(name).filter(|&k| k != kind) else {
                 continue;
             };
             let key = format!("tools.{name}");
             let blamed = origin_of(&key);
-            if kind_overridden && blamed == origin {
-                continue;
+            if let Some(set) = kind_set.filter(|_| blamed == origin) {
+                return Err(SceneError {
+                    origin: format!("--set {}", set.text),
+                    detail: format!(
+                        "tools.kind = \"{}\" would drop the scene file's {key} (a \"{}\" key): \
+                         start from a scene of that kind (presets/hemisphere.toml, \
+                         presets/paper-ellipsoid.toml) or remove {key} from the file",
+                        kind.name(),
+                        owner.name()
+                    ),
+                    key: Some("tools.kind".into()),
+                });
             }
             let mut keys: Vec<&str> = kind.own_keys().to_vec();
             keys.extend(SHARED_TOOL_KEYS);
@@ -147,16 +159,19 @@ mod tests {
         assert!(e.detail.contains("only for tools.kind = \"box\""), "{e}");
         let e = parse("", &["tools.axes=[30,20,10]"]).unwrap_err();
         assert_eq!(e.origin, "--set tools.axes=[30,20,10]");
-        // Switching the kind with --set lets the file's box keys pass.
-        let s = parse(
-            "[tools]\nr = 5\nrp = 6\n",
-            &[
-                "tools.kind=\"hemisphere\"",
-                "tools.radius=20",
-                "process.stroke=15",
-            ],
-        )
-        .unwrap();
+        // Switching the kind with --set would drop the file's box keys: refused, blamed on the
+        // --set, naming the key it would drop.
+        let sets = [
+            "tools.kind=\"hemisphere\"",
+            "tools.radius=20",
+            "process.stroke=15",
+        ];
+        let e = parse("[tools]\nr = 5\nrp = 6\n", &sets).unwrap_err();
+        assert_eq!(e.origin, "--set tools.kind=\"hemisphere\"");
+        assert_eq!(e.key.as_deref(), Some("tools.kind"), "{e}");
+        assert!(e.detail.contains("drop the scene file's tools.r"), "{e}");
+        // A file without box keys switches.
+        let s = parse("[tools]\nrm = 6\n", &sets).unwrap();
         assert_eq!(s.tools.kind, ToolKind::Hemisphere);
     }
 }

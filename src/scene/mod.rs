@@ -61,7 +61,7 @@ use crate::core::law::CellParams;
 pub use keys::lookup;
 pub use overrides::Override;
 pub use types::{
-    Blank, DEFAULT_BOX_RADII, Fabric, MeshSettings, Numerics, PerYarn, PlanPair, Process,
+    Blank, DEFAULT_BOX_RADII, Fabric, MeshSettings, Num, Numerics, PerYarn, PlanPair, Process,
     SymmetryChoice, ToolKind, Tools,
 };
 

@@ -21,12 +21,20 @@ impl FromStr for Override {
     type Err = SceneError;
 
     fn from_str(text: &str) -> Result<Self, SceneError> {
-        let origin = format!("--set {text}");
+        let origin = format!("--set {}", text.replace('\n', "\\n").replace('\r', "\\r"));
         let err = |key: Option<String>, detail: String| SceneError {
             origin: origin.clone(),
             key,
             detail,
         };
+        if text.contains(['\n', '\r']) {
+            return Err(err(
+                None,
+                "one KEY=VALUE per --set, on one line: this one holds a line break (give each key \
+                 its own --set)"
+                    .into(),
+            ));
+        }
         let Some((key, value)) = text.split_once('=') else {
             return Err(err(
                 None,
@@ -44,6 +52,7 @@ impl FromStr for Override {
         let value = doc
             .parse::<toml::Table>()
             .ok()
+            .filter(|t| t.len() == 1)
             .and_then(|mut t| t.remove("v"))
             .ok_or_else(|| {
                 err(
@@ -235,5 +244,16 @@ mod tests {
         let e = parse("", &["fabric.l0=[1,\"x\"]"]).unwrap_err();
         assert_eq!(e.origin, "--set fabric.l0=[1,\"x\"]", "{e}");
         assert_eq!(e.key.as_deref(), Some("fabric.l0[1]"), "{e}");
+    }
+
+    #[test]
+    fn one_key_per_set() {
+        // Everything after a line break used to be dropped without a word.
+        let e = "tools.r=7.5\ntools.rp=3".parse::<Override>().unwrap_err();
+        assert_eq!(e.origin, "--set tools.r=7.5\\ntools.rp=3");
+        assert!(e.detail.contains("line break"), "{e}");
+        // A second key hidden in the value is not a literal either.
+        let e = "tools.r=7.5 rp=3".parse::<Override>().unwrap_err();
+        assert!(e.detail.contains("expected a TOML literal"), "{e}");
     }
 }

@@ -82,13 +82,29 @@ impl<'de> Deserialize<'de> for PlanPair {
 
 impl fmt::Display for PlanPair {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "[{}, {}]", self.0[0], self.0[1])
+        write!(f, "[{}, {}]", Num(self.0[0]), Num(self.0[1]))
     }
 }
 
 impl fmt::Display for PerYarn {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "[{}, {}]", self.0[0], self.0[1])
+        write!(f, "[{}, {}]", Num(self.0[0]), Num(self.0[1]))
+    }
+}
+
+/// A number as a person reads it in a message: `1e308` rather than 309 digits, `1e-9` rather
+/// than nine zeros, never `-0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Num(pub f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0 + 0.0; // -0.0 + 0.0 is 0.0
+        if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
+            write!(f, "{v:e}")
+        } else {
+            write!(f, "{v}")
+        }
     }
 }
 
@@ -170,7 +186,7 @@ impl ToolKind {
 
 /// The `[tools]` table: the punch and the die. Defaults: the paper's box with r = 10, rp = 15,
 /// rm = 10 mm (side and clearance are not in the paper: see `DrawingProblem::paper_box`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Tools {
     /// `"box"`, `"ellipsoid"` or `"hemisphere"`.
@@ -189,6 +205,31 @@ pub struct Tools {
     pub axes: [f64; 3],
     /// Hemisphere: radius, mm.
     pub radius: f64,
+}
+
+/// Only the keys of the scene's kind of punch (and the shared ones), so that a written scene
+/// (`summary.json`'s `inputs`, `results.json`'s `base_scene`) reads back as a scene.
+impl Serialize for Tools {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let own = self.kind.own_keys();
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("kind", &self.kind)?;
+        if own.contains(&"side") {
+            m.serialize_entry("side", &self.side)?;
+            m.serialize_entry("r", &self.r)?;
+            m.serialize_entry("rp", &self.rp)?;
+        }
+        if own.contains(&"axes") {
+            m.serialize_entry("axes", &self.axes)?;
+        }
+        if own.contains(&"radius") {
+            m.serialize_entry("radius", &self.radius)?;
+        }
+        m.serialize_entry("rm", &self.rm)?;
+        m.serialize_entry("clearance", &self.clearance)?;
+        m.end()
+    }
 }
 
 impl Default for Tools {

@@ -7,7 +7,7 @@
 
 use std::fmt;
 
-use super::types::{PerYarn, PlanPair, SymmetryChoice, ToolKind};
+use super::types::{Num, PerYarn, PlanPair, SymmetryChoice, ToolKind};
 use super::{Scene, SceneError};
 
 /// A broken bound: the key blamed, the keys involved (to find who set them) and the message
@@ -57,7 +57,7 @@ fn strictly_between(v: f64, lo: f64, hi: f64) -> bool {
 }
 
 fn fmt3(v: [f64; 3]) -> String {
-    format!("[{}, {}, {}]", v[0], v[1], v[2])
+    format!("[{}, {}, {}]", Num(v[0]), Num(v[1]), Num(v[2]))
 }
 
 impl Scene {
@@ -103,36 +103,40 @@ impl Scene {
             broken("fabric.c", f.c, "a yarn stiffness C > 0 N for each yarn")
         })?;
         ok_if(non_neg(f.a), || {
-            broken("fabric.a", f.a, "a closure saturation A ≥ 0 mm")
+            broken("fabric.a", Num(f.a), "a closure saturation A ≥ 0 mm")
         })?;
         let h = e0[0] + e0[1];
         ok_if(f.a < h, || {
             let what = format!(
                 "a closure saturation A < e01 + e02 = {h} mm (the yarns cannot flatten past each other)"
             );
-            broken("fabric.a", f.a, what)
+            broken("fabric.a", Num(f.a), what)
         })?;
         ok_if(pos(f.b), || {
-            broken("fabric.b", f.b, "a transverse compliance rate B > 0 1/N")
+            broken(
+                "fabric.b",
+                Num(f.b),
+                "a transverse compliance rate B > 0 1/N",
+            )
         })?;
         ok_if(strictly_between(f.locking_angle_deg, 0.0, 90.0), || {
             let what = "a shear locking angle strictly between 0 and 90 degrees";
-            broken("fabric.locking_angle_deg", f.locking_angle_deg, what)
+            broken("fabric.locking_angle_deg", Num(f.locking_angle_deg), what)
         })?;
         ok_if(pos(f.break_tension_n), || {
             let what = "a yarn breaking tension > 0 N";
-            broken("fabric.break_tension_n", f.break_tension_n, what)
+            broken("fabric.break_tension_n", Num(f.break_tension_n), what)
         })?;
         ok_if(strictly_between(f.yarn_angle_deg, 0.0, 180.0), || {
             let what = "an initial angle between the yarns strictly between 0 and 180 degrees";
-            broken("fabric.yarn_angle_deg", f.yarn_angle_deg, what)
+            broken("fabric.yarn_angle_deg", Num(f.yarn_angle_deg), what)
         })
     }
 
     fn check_tools(&self) -> Result<(), Broken> {
         let t = &self.tools;
         ok_if(pos(t.rm), || {
-            broken("tools.rm", t.rm, "a die entry radius rm > 0 mm")
+            broken("tools.rm", Num(t.rm), "a die entry radius rm > 0 mm")
         })?;
         ok_if(non_neg(t.clearance), || {
             broken(
@@ -148,7 +152,7 @@ impl Scene {
                 broken("tools.axes", fmt3(t.axes), what)
             }),
             ToolKind::Hemisphere => ok_if(pos(t.radius), || {
-                broken("tools.radius", t.radius, "a punch radius > 0 mm")
+                broken("tools.radius", Num(t.radius), "a punch radius > 0 mm")
             }),
         }
     }
@@ -161,26 +165,28 @@ impl Scene {
         })?;
         let half = 0.5 * t.side.0[0].min(t.side.0[1]);
         ok_if(pos(t.r), || {
-            broken("tools.r", t.r, "a punch corner radius r > 0 mm")
+            broken("tools.r", Num(t.r), "a punch corner radius r > 0 mm")
         })?;
         ok_if(t.r < half, || {
             broken_with(
                 &["tools.r", "tools.side"],
                 format!(
-                    "tools.r = {}: r larger than the punch allows: expected a corner radius r < side/2 = {half} mm",
-                    t.r
+                    "tools.r = {}: r larger than the punch allows: expected a corner radius r < side/2 = {} mm",
+                    Num(t.r),
+                    Num(half)
                 ),
             )
         })?;
         ok_if(pos(t.rp), || {
-            broken("tools.rp", t.rp, "a punch nose radius rp > 0 mm")
+            broken("tools.rp", Num(t.rp), "a punch nose radius rp > 0 mm")
         })?;
         ok_if(t.rp < half, || {
             broken_with(
                 &["tools.rp", "tools.side"],
                 format!(
-                    "tools.rp = {}: rp larger than the punch allows: expected a nose radius rp < side/2 = {half} mm",
-                    t.rp
+                    "tools.rp = {}: rp larger than the punch allows: expected a nose radius rp < side/2 = {} mm",
+                    Num(t.rp),
+                    Num(half)
                 ),
             )
         })
@@ -190,14 +196,14 @@ impl Scene {
         let p = &self.process;
         ok_if(within(p.friction, 0.0, 1.0), || {
             let what = "a friction coefficient μ in [0, 1]";
-            broken("process.friction", p.friction, what)
+            broken("process.friction", Num(p.friction), what)
         })?;
         ok_if(within(p.holder_pressure, 0.0, 50.0), || {
             let what = "a blank-holder pressure in [0, 50] MPa";
-            broken("process.holder_pressure", p.holder_pressure, what)
+            broken("process.holder_pressure", Num(p.holder_pressure), what)
         })?;
         ok_if(pos(p.stroke), || {
-            broken("process.stroke", p.stroke, "a punch stroke > 0 mm")
+            broken("process.stroke", Num(p.stroke), "a punch stroke > 0 mm")
         })?;
         let t = &self.tools;
         let Some(depth) = t.punch_depth() else {
@@ -212,8 +218,9 @@ impl Scene {
             broken_with(
                 &["process.stroke", "tools.axes", "tools.radius"],
                 format!(
-                    "process.stroke = {}: expected a stroke ≤ the punch's depth, {axis} = {depth} mm (the punch is the lower half of the {})",
-                    p.stroke,
+                    "process.stroke = {}: expected a stroke ≤ the punch's depth, {axis} = {} mm (the punch is the lower half of the {})",
+                    Num(p.stroke),
+                    Num(depth),
                     t.kind.name()
                 ),
             )
@@ -256,8 +263,9 @@ impl Scene {
                 broken_with(
                     &["mesh.element_size", "blank.size"],
                     format!(
-                        "mesh.element_size = {}: expected an element size > 0 and ≤ blank/4 = {quarter_of_blank} mm",
-                        m.element_size
+                        "mesh.element_size = {}: expected an element size > 0 and ≤ blank/4 = {} mm",
+                        Num(m.element_size),
+                        Num(quarter_of_blank)
                     ),
                 )
             },
@@ -271,7 +279,8 @@ impl Scene {
                 broken_with(
                     &["mesh.symmetry", "fabric.yarn_angle_deg"],
                     format!(
-                        "mesh.symmetry = \"quarter\": expected \"auto\" or \"full\" when the yarns are not along x and y (fabric.yarn_angle_deg = {yarn_angle})"
+                        "mesh.symmetry = \"quarter\": expected \"auto\" or \"full\" when the yarns are not along x and y (fabric.yarn_angle_deg = {})",
+                        Num(yarn_angle)
                     ),
                 )
             },
@@ -289,11 +298,11 @@ impl Scene {
         let n = &self.numerics;
         ok_if(non_neg(n.stabilisation), || {
             let what = "a damping κ ≥ 0 of the Newton corrections (0 turns it off)";
-            broken("numerics.stabilisation", n.stabilisation, what)
+            broken("numerics.stabilisation", Num(n.stabilisation), what)
         })?;
         ok_if(pos(n.penalty_factor), || {
             let what = "a contact penalty factor > 0";
-            broken("numerics.penalty_factor", n.penalty_factor, what)
+            broken("numerics.penalty_factor", Num(n.penalty_factor), what)
         })
     }
 }

@@ -1,5 +1,6 @@
 //! The feasibility table printed at the end of a sweep, and the ranking it shares with the sheet.
 
+use crate::report::fixed;
 use std::fmt::Write as _;
 
 use crate::study::sweep::{Plan, Row, show_value, unit_of};
@@ -45,7 +46,7 @@ pub fn table(plan: &Plan, rows: &[Row]) -> String {
     }
     let mut body: Vec<Vec<String>> = Vec::new();
     for r in &sorted {
-        let f = |v: Option<f64>, d: usize| v.map(|v| format!("{v:.d$}")).unwrap_or("–".into());
+        let f = |v: Option<f64>, d: usize| v.map(|v| fixed(v, d)).unwrap_or("–".into());
         let mut line = vec![r.verdict.mark().to_string(), r.design.clone()];
         line.extend(r.params.iter().map(|(_, v)| show_value(v)));
         line.push(f(r.max_shear_deg, 1));

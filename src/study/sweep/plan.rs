@@ -370,6 +370,19 @@ fn axis_values(
             show_value(v)
         ));
     }
+    let same = |a: &toml::Value, b: &toml::Value| match (as_number(a), as_number(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => a == b,
+    };
+    for (i, v) in values.iter().enumerate() {
+        if values[..i].iter().any(|w| same(v, w)) {
+            return Err(format!(
+                "sweep.{name}: {} is given twice; expected each value of {key} once (a range \
+                 whose start equals its stop needs count = 1)",
+                show_value(v)
+            ));
+        }
+    }
     Ok(values)
 }
 
@@ -414,6 +427,21 @@ pub(super) mod tests {
         let range =
             plan_of("[sweep]\nfriction = { start = 0.1, stop = 0.3, count = 3 }\n").unwrap();
         assert_eq!(range.axes[0].values[1], toml::Value::Float(0.2));
+    }
+
+    #[test]
+    fn a_value_given_twice_is_refused() {
+        for sweep in [
+            "r = [5.0, 5]",
+            "r = { start = 5.0, stop = 5.0, count = 3 }",
+            "\"mesh.symmetry\" = [\"full\", \"full\"]",
+        ] {
+            let e = plan_of(&format!("[sweep]\n{sweep}\n"))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("is given twice"), "{sweep}: {e}");
+        }
+        assert!(plan_of("[sweep]\nr = { start = 5.0, stop = 5.0, count = 1 }\n").is_ok());
     }
 
     #[test]
