@@ -132,3 +132,48 @@ fn the_size_estimate_matches_the_model_it_describes() {
         assert!((estimate.factor_entries / factor - 1.0).abs() < tolerance);
     }
 }
+
+#[test]
+fn the_whole_blank_is_meshed_at_any_yarn_angle_and_the_angle_is_continuous() {
+    // A yarn angle off 90° used to mesh the blank as a parallelogram along the yarns: at 1° a
+    // sliver away from the punch, "feasible" at zero force. The blank is now the rectangle at
+    // any angle, and a fabric whose yarns are 0.01° off the axes draws as the full model does.
+    let mut p = coarse_open_box();
+    p.symmetry = Symmetry::Full;
+    let at90 = drawing::solve(&p, &mut |_| {});
+    p.yarn_angle_deg = 89.99;
+    let near = drawing::solve(&p, &mut |_| {});
+    assert!(
+        at90.converged && near.converged,
+        "{:?} {:?}",
+        at90.failure,
+        near.failure
+    );
+    for r in [&at90, &near] {
+        let (lo, hi) = r
+            .mesh
+            .nodes
+            .iter()
+            .fold(([f64::MAX; 2], [f64::MIN; 2]), |(lo, hi), n| {
+                (
+                    [lo[0].min(n[0]), lo[1].min(n[1])],
+                    [hi[0].max(n[0]), hi[1].max(n[1])],
+                )
+            });
+        for v in [lo[0], lo[1], -hi[0], -hi[1]] {
+            assert!((v + 85.0).abs() < 1e-9, "the blank's extent: {lo:?} {hi:?}");
+        }
+    }
+    let (s90, s) = (at90.max_shear().1, near.max_shear().1);
+    println!(
+        "90°: shear {s90:.3}°, force {:.1} N; 89.99°: shear {s:.3}°, force {:.1} N",
+        at90.punch_force_n, near.punch_force_n
+    );
+    assert!((s90 - s).abs() < 0.2, "max shear {s90} vs {s}");
+    assert!((at90.punch_force_n / near.punch_force_n - 1.0).abs() < 0.01);
+    // At 45° the punch still draws the whole blank: a real force, not a sliver's zero.
+    p.yarn_angle_deg = 45.0;
+    let oblique = drawing::solve(&p, &mut |_| {});
+    println!("45°: force {:.1} N", oblique.punch_force_n);
+    assert!(oblique.punch_force_n > 0.3 * at90.punch_force_n);
+}

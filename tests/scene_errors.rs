@@ -204,6 +204,12 @@ fn set_edges_are_named_and_numbers_stay_short() {
         &["--set", "mesh.element_size=1e-300"],
         &["mesh.element_size = 1e-300 mm", "unbounded memory"],
     );
+    // A fabric whose yarns start further from 90° than the locking angle is locked already.
+    assert_rejected(
+        &open,
+        &["--set", "fabric.yarn_angle_deg=1"],
+        &["fabric.yarn_angle_deg = 1", "30 and 150 degrees"],
+    );
     let o = wovenform(&["run", &open, "--set", "tools.r=1e308"]);
     assert!(
         o.stderr.len() < 400,

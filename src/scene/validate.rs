@@ -127,9 +127,21 @@ impl Scene {
             let what = "a yarn breaking tension > 0 N";
             broken("fabric.break_tension_n", Num(f.break_tension_n), what)
         })?;
-        ok_if(strictly_between(f.yarn_angle_deg, 0.0, 180.0), || {
-            let what = "an initial angle between the yarns strictly between 0 and 180 degrees";
-            broken("fabric.yarn_angle_deg", Num(f.yarn_angle_deg), what)
+        // An initial angle further from 90° than the locking angle is a fabric locked before
+        // it is formed.
+        let (lo, hi) = (90.0 - f.locking_angle_deg, 90.0 + f.locking_angle_deg);
+        ok_if(strictly_between(f.yarn_angle_deg, lo, hi), || {
+            broken_with(
+                &["fabric.yarn_angle_deg", "fabric.locking_angle_deg"],
+                format!(
+                    "fabric.yarn_angle_deg = {}: expected an initial angle between the yarns \
+                     strictly between 90° ± the locking angle, {} and {} degrees (further from \
+                     90° the fabric is sheared past locking before it is formed)",
+                    Num(f.yarn_angle_deg),
+                    Num(lo),
+                    Num(hi)
+                ),
+            )
         })
     }
 

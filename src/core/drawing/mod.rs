@@ -204,7 +204,10 @@ impl DrawingProblem {
         }
     }
 
-    /// The mesh of the solved part: a yarn grid over the blank (or its quarter x, y ≥ 0).
+    /// The mesh of the solved part: a grid over the whole rectangular blank (or its quarter
+    /// x, y ≥ 0) with the warp along x. When the yarns are not at 90° the elements stay
+    /// rectangular and the weft runs across them at the yarn angle (the element projects the
+    /// yarn directions on itself), so the blank keeps its shape at any yarn angle.
     fn blank_mesh(&self, quarter: bool) -> Mesh {
         let [bx, by] = self.blank;
         let angle = self.yarn_angle_deg.to_radians();
@@ -213,14 +216,12 @@ impl DrawingProblem {
         } else {
             [-0.5 * bx, -0.5 * by]
         };
-        let mut mesh = Mesh::yarn_grid(origin, self.solved_lengths(quarter), self.grid(), angle);
-        if !quarter && (angle - std::f64::consts::FRAC_PI_2).abs() > 1e-12 {
-            // A sheared yarn grid is a parallelogram: centre it on the punch.
-            let shift = 0.5 * by * angle.cos();
-            for p in &mut mesh.nodes {
-                p[0] -= shift;
-            }
+        let right = std::f64::consts::FRAC_PI_2;
+        if (angle - right).abs() <= 1e-12 {
+            return Mesh::yarn_grid(origin, self.solved_lengths(quarter), self.grid(), angle);
         }
+        let mut mesh = Mesh::yarn_grid(origin, self.solved_lengths(quarter), self.grid(), right);
+        mesh.yarns = Some([[1.0, 0.0, 0.0], [angle.cos(), angle.sin(), 0.0]]);
         mesh
     }
 
