@@ -44,7 +44,7 @@ impl StrainPath {
     /// The legend's name for the path.
     pub fn legend(self) -> String {
         match self {
-            StrainPath::Ratio(k) => format!("k = {k}"),
+            StrainPath::Ratio(k) => format!("ε11 = {k} ε22"),
             StrainPath::Uniaxial => "uniaxial (ε22 = 0)".to_string(),
         }
     }
@@ -99,12 +99,19 @@ pub fn figure6_csv(rows: &[Figure6Row]) -> String {
 /// The chart: warp tension solid, weft tension dashed, one colour per path.
 pub fn figure6_chart(rows: &[Figure6Row]) -> LineChart {
     let mut chart = LineChart::new(
-        "Biaxial tension of the woven cell (paper's Figure 6)",
+        "Biaxial tension of the woven cell (paper's Figure 6; k = ε11/ε22)",
         "warp strain ε11 (%)",
         "tension per yarn (N)",
     );
     for (i, path) in StrainPath::FIGURE6.into_iter().enumerate() {
-        let on_path = rows.iter().filter(|r| r.path == path);
+        // One point in five (and the last): long straight segments draw smooth lines, where
+        // a point every few pixels draws a staircase (the bitmap has no anti-aliasing).
+        let all: Vec<&Figure6Row> = rows.iter().filter(|r| r.path == path).collect();
+        let on_path = all
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| i % 5 == 0 || *i + 1 == all.len())
+            .map(|(_, r)| *r);
         let warp = on_path
             .clone()
             .map(|r| (100.0 * r.eps[0], r.t[0]))
@@ -123,4 +130,23 @@ pub fn figure6_chart(rows: &[Figure6Row]) -> LineChart {
         ));
     }
     chart
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_chart_defines_k_and_draws_long_segments_through_the_ends() {
+        let rows = figure6_table(CellParams::PAPER_GLASS, 121);
+        let chart = figure6_chart(&rows);
+        assert!(chart.title.contains("k = ε11/ε22"), "{}", chart.title);
+        assert_eq!(chart.series.len(), 8);
+        for s in &chart.series {
+            // 121 points a curve in the CSV, 25 on the chart: one in five and the last.
+            assert_eq!(s.points.len(), 25, "{}", s.name);
+            assert!((s.points.last().unwrap().0 - 100.0 * EPS_MAX).abs() < 1e-9);
+            assert!(s.name.contains("ε22"), "{}", s.name);
+        }
+    }
 }
