@@ -104,7 +104,9 @@ pub fn write_run(
     tooling: &Tooling,
 ) -> Result<Vec<PathBuf>, PublishError> {
     std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
+    let design = summary.design_line();
     let ctx = MapContext {
+        design: &design,
         scene: &summary.scene,
         verdict: &summary.verdict,
         tooling: *tooling,

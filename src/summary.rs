@@ -166,6 +166,43 @@ impl RunSummary {
         }
     }
 
+    /// The design in one line, for the maps: the tools, the friction, the holder pressure and
+    /// the mesh, with units.
+    pub fn design_line(&self) -> String {
+        use crate::scene::{Num, ToolKind};
+        let s = &self.inputs;
+        let t = &s.tools;
+        let tools = match t.kind {
+            ToolKind::Box => format!(
+                "box r {} · rp {} · rm {} mm",
+                Num(t.r),
+                Num(t.rp),
+                Num(t.rm)
+            ),
+            ToolKind::Hemisphere => {
+                format!("hemisphere radius {} · rm {} mm", Num(t.radius), Num(t.rm))
+            }
+            ToolKind::Ellipsoid => format!(
+                "ellipsoid {} × {} × {} · rm {} mm",
+                Num(t.axes[0]),
+                Num(t.axes[1]),
+                Num(t.axes[2]),
+                Num(t.rm)
+            ),
+        };
+        let level = self
+            .accuracy
+            .as_ref()
+            .map(|a| format!(" ({a})"))
+            .unwrap_or_default();
+        format!(
+            "{tools} · friction {} · holder {} MPa · {} mm elements{level}",
+            Num(s.process.friction),
+            Num(s.process.holder_pressure),
+            Num(s.mesh.element_size)
+        )
+    }
+
     /// One JSON object on one line.
     pub fn to_json(&self) -> String {
         serde_json::to_string(self).expect("the summary is plain data")

@@ -182,13 +182,27 @@ fn run_json_prints_the_fields_and_writes_the_files() {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary, Value::Object(m.clone()));
 
-    // The maps decode; the magenta of "over the limit" is only on the colour bar.
+    // The maps decode; the magenta of "over the limit" is only on the shear map's colour bar.
+    // The tension, a fraction of the break, is drawn on its own range (the break named above
+    // the bar), so its largest values are drawn dark, not pale.
     for name in ["shear.png", "tension.png"] {
         let img = image::open(out.join(name)).unwrap().to_rgb8();
         assert_eq!(img.dimensions(), (1100, 900), "{name}");
         let (map, bar) = count_colour(&img, MAGENTA, BAR_X);
         assert_eq!(map, 0, "{name}: magenta cells on a feasible map");
-        assert!(bar > 100, "{name}: no over-the-limit swatch on the bar");
+        if name == "shear.png" {
+            assert!(bar > 100, "{name}: no over-the-limit swatch on the bar");
+        } else {
+            assert_eq!(
+                bar, 0,
+                "{name}: an over-the-limit swatch for a field under it"
+            );
+            let dark = img
+                .enumerate_pixels()
+                .filter(|(x, _, p)| *x < BAR_X && p.0[0] < 60 && p.0[2] > 120)
+                .count();
+            assert!(dark > 50, "{name}: {dark} dark pixels on the map");
+        }
         let inked = img.pixels().filter(|p| p.0 != [255, 255, 255]).count();
         assert!(inked > 100_000, "{name}: {inked} inked pixels");
     }

@@ -37,11 +37,17 @@ const SCALE: [(u8, u8, u8); 9] = [
 /// The colour of `value` on a scale whose limit is `limit`: the sequential scale below it,
 /// [`OVER_LIMIT`] above it.
 pub fn colour_of(value: f64, limit: f64) -> (u8, u8, u8) {
+    colour_on(value, limit, limit)
+}
+
+/// The colour of `value` with the sequential scale spanning 0 … `span` (≤ `limit`) and
+/// [`OVER_LIMIT`] above the limit.
+pub fn colour_on(value: f64, limit: f64, span: f64) -> (u8, u8, u8) {
     if value > limit {
         return OVER_LIMIT;
     }
-    let t = if limit > 0.0 {
-        (value / limit).clamp(0.0, 1.0)
+    let t = if span > 0.0 {
+        (value / span).clamp(0.0, 1.0)
     } else {
         0.0
     };
@@ -60,6 +66,11 @@ pub struct FieldMap {
     pub title: String,
     /// Second title line (what is shown).
     pub subtitle: String,
+    /// Third title line: the design (tools, friction, pressure, mesh); empty: none.
+    pub design: String,
+    /// Spread the colours over the field's own range when its largest value is under the limit
+    /// (the tension, often a fraction of the break); the limit is then written above the bar.
+    pub fit_to_field: bool,
     pub quads: Vec<PlanQuad>,
     /// One value per quad, ≥ 0.
     pub values: Vec<f64>,
@@ -112,6 +123,8 @@ pub struct MapContext<'a> {
     pub tooling: Tooling,
     /// The stroke asked for, mm.
     pub stroke_mm: f64,
+    /// The design in one line (`RunSummary::design_line`).
+    pub design: &'a str,
 }
 
 /// The plan quads of the solved part, final positions.
@@ -153,6 +166,8 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
             ctx.verdict
         ),
         subtitle: crate::summary::shear_subtitle(result, ctx.stroke_mm),
+        design: ctx.design.to_string(),
+        fit_to_field: false,
         quads,
         values,
         limit: locking_angle_deg,
@@ -182,6 +197,8 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
             ctx.verdict
         ),
         subtitle: format!("Largest yarn tension: {}", what_is_drawn(result, ctx)),
+        design: ctx.design.to_string(),
+        fit_to_field: true,
         quads,
         values,
         limit: break_tension_n,
@@ -211,7 +228,25 @@ impl FieldMap {
             return top;
         }
         let max = self.values.iter().cloned().fold(0.0, f64::max);
+        if self.limit_off_scale() {
+            return 1.05 * max;
+        }
         (1.1 * self.limit).max(max)
+    }
+
+    /// The field stays under its limit and is drawn on its own range (see `fit_to_field`).
+    fn limit_off_scale(&self) -> bool {
+        let max = self.values.iter().cloned().fold(0.0, f64::max);
+        self.fit_to_field && max > 0.0 && max < self.limit
+    }
+
+    /// The value drawn darkest: the limit, or the top of the field's own range.
+    fn colour_span(&self) -> f64 {
+        if self.limit_off_scale() {
+            self.scale_top()
+        } else {
+            self.limit
+        }
     }
 
     /// Draws the map to a PNG file. Errors name the file.
@@ -229,7 +264,8 @@ impl FieldMap {
         let err = |e: &dyn std::fmt::Display| e.to_string();
         let font = "sans-serif";
         let (w, _) = self.size;
-        let (top, body) = root.split_vertically(86);
+        let head = if self.design.is_empty() { 86 } else { 108 };
+        let (top, body) = root.split_vertically(head);
         // Each title line at the largest size (up to its nominal one) that fits the width.
         let line = |text: &str, y: i32, size: u32, bold: bool, colour: RGBColor| {
             let style_at = |size: u32| {
@@ -252,6 +288,9 @@ impl FieldMap {
         };
         line(&self.title, 14, 26, true, BLACK).map_err(|e| err(&e))?;
         line(&self.subtitle, 54, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
+        if !self.design.is_empty() {
+            line(&self.design, 80, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
+        }
         let bar_width = 250;
         let (map_area, bar_area) = body.split_horizontally(w - bar_width);
         let plot_rows = self.draw_map(&map_area)?;
@@ -317,12 +356,10 @@ impl FieldMap {
         let rgb = |c: (u8, u8, u8)| RGBColor(c.0, c.1, c.2);
         let poly = |q: &PlanQuad| -> Vec<(f64, f64)> { q.iter().map(|p| (p[0], p[1])).collect() };
         chart
-            .draw_series(
-                self.quads
-                    .iter()
-                    .zip(&self.values)
-                    .map(|(q, &v)| Polygon::new(poly(q), rgb(colour_of(v, self.limit)).filled())),
-            )
+            .draw_series(self.quads.iter().zip(&self.values).map(|(q, &v)| {
+                let c = colour_on(v, self.limit, self.colour_span());
+                Polygon::new(poly(q), rgb(c).filled())
+            }))
             .map_err(|e| err(&e))?;
         // The element edges, faint: they are the yarns, and show the shear by themselves.
         let edge = ShapeStyle::from(BLACK.mix(0.12)).stroke_width(1);
@@ -344,8 +381,9 @@ impl FieldMap {
                 ))
                 .map_err(|e| err(&e))?;
         }
-        // Over the limit: outlined in black on top of everything else.
-        let outline = ShapeStyle::from(BLACK).stroke_width(2);
+        // Over the limit: outlined on top of everything else, thin and in a darker magenta, so
+        // that a corner of small sheared cells reads as magenta cells, not as a black blob.
+        let outline = ShapeStyle::from(RGBColor(110, 0, 80)).stroke_width(1);
         chart
             .draw_series(
                 self.quads
@@ -423,7 +461,8 @@ impl FieldMap {
                     top * (i + 1) as f64 / BANDS as f64,
                 );
                 let v = 0.5 * (a + b);
-                Rectangle::new([(0.0, a), (1.0, b)], rgb(colour_of(v, self.limit)).filled())
+                let c = colour_on(v, self.limit, self.colour_span());
+                Rectangle::new([(0.0, a), (1.0, b)], rgb(c).filled())
             }))
             .map_err(|e| err(&e))?;
         chart
@@ -432,15 +471,8 @@ impl FieldMap {
                 ShapeStyle::from(BLACK).stroke_width(1),
             )))
             .map_err(|e| err(&e))?;
-        // The limit: a thick line across the bar and beyond, with its name and value.
-        let (x0, y_limit) = chart.backend_coord(&(0.0, self.limit));
-        let (x1, _) = chart.backend_coord(&(1.0, self.limit));
-        let line = ShapeStyle::from(BLACK).stroke_width(3);
-        root.draw(&PathElement::new(
-            vec![(x0 - 8, y_limit), (x1 + 12, y_limit)],
-            line,
-        ))
-        .map_err(|e| err(&e))?;
+        let (x0, _) = chart.backend_coord(&(0.0, 0.0));
+        let (x1, _) = chart.backend_coord(&(1.0, 0.0));
         let text = |s: String, y: i32, bold: bool| {
             let f = (font, 17).into_font();
             let f = if bold { f.style(FontStyle::Bold) } else { f };
@@ -450,21 +482,46 @@ impl FieldMap {
                 f.color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center)),
             )
         };
-        root.draw(&text(self.limit_name.clone(), y_limit + 14, true))
-            .map_err(|e| err(&e))?;
-        root.draw(&text(self.unit.show(self.limit), y_limit + 35, true))
-            .map_err(|e| err(&e))?;
-        // Over the limit: say what the magenta means.
         let (_, y_top) = chart.backend_coord(&(1.0, top));
-        if y_limit - y_top > 24 {
-            root.draw(&text("over the limit".into(), (y_top + y_limit) / 2, false))
+        let y_limit = if self.limit_off_scale() {
+            // The field stays under its limit: name the limit above the scale.
+            root.draw(&text(self.limit_name.clone(), y_top + 10, true))
                 .map_err(|e| err(&e))?;
-        }
+            root.draw(&text(
+                format!("{}, above", self.unit.show(self.limit)),
+                y_top + 31,
+                true,
+            ))
+            .map_err(|e| err(&e))?;
+            root.draw(&text("this scale".into(), y_top + 52, true))
+                .map_err(|e| err(&e))?;
+            y_top + 40
+        } else {
+            // The limit: a thick line across the bar and beyond, with its name and value.
+            let (_, y_limit) = chart.backend_coord(&(0.0, self.limit));
+            let line = ShapeStyle::from(BLACK).stroke_width(3);
+            root.draw(&PathElement::new(
+                vec![(x0 - 8, y_limit), (x1 + 12, y_limit)],
+                line,
+            ))
+            .map_err(|e| err(&e))?;
+            root.draw(&text(self.limit_name.clone(), y_limit + 14, true))
+                .map_err(|e| err(&e))?;
+            root.draw(&text(self.unit.show(self.limit), y_limit + 35, true))
+                .map_err(|e| err(&e))?;
+            // Over the limit: say what the magenta means.
+            if y_limit - y_top > 24 {
+                root.draw(&text("over the limit".into(), (y_top + y_limit) / 2, false))
+                    .map_err(|e| err(&e))?;
+            }
+            y_limit
+        };
         // The largest value, unless it would sit on the limit's label.
         let max = self.values.iter().cloned().fold(0.0, f64::max);
         let (_, y_max) = chart.backend_coord(&(1.0, max.min(top)));
+        // On the bar's left, clear of the limit's line, which runs out to the right.
         root.draw(&PathElement::new(
-            vec![(x1 - 10, y_max), (x1 + 6, y_max)],
+            vec![(x0 - 14, y_max), (x0 + 4, y_max)],
             ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3),
         ))
         .map_err(|e| err(&e))?;
@@ -545,6 +602,8 @@ mod tests {
         let map = FieldMap {
             title: String::new(),
             subtitle: String::new(),
+            design: String::new(),
+            fit_to_field: false,
             quads: vec![[[-70.0, -50.0], [70.0, -50.0], [70.0, 50.0], [-70.0, 50.0]]],
             values: vec![1.0],
             limit: 2.0,

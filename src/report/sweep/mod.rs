@@ -62,6 +62,8 @@ pub fn field_map(field: &StoredField, label: &str, scale_max: f64) -> FieldMap {
             field.verdict
         ),
         subtitle: format!("{}; one colour scale for the whole sweep", field.subtitle),
+        design: String::new(),
+        fit_to_field: false,
         quads,
         values,
         limit: field.locking_angle_deg,
