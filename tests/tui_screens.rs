@@ -227,5 +227,13 @@ fn help() {
         });
         assert!(listed, "the help does not list `{keys}` ({does}):\n{s}");
     }
+    // Nothing is cut at 80 or 120 columns: every verdict is named and the last word is there.
+    for width in [80, 120] {
+        let s = screen(&app, width, 24);
+        let words: String = s.split_whitespace().collect::<Vec<_>>().join(" ");
+        for said in ["≈ marginal", "✗ tension", "- invalid", "closes."] {
+            assert!(words.contains(said), "{width} columns: no `{said}`:\n{s}");
+        }
+    }
     snapshot("tui_help_80x24", &s);
 }

@@ -226,6 +226,16 @@ impl App {
         self.table_plan.columns().len() + FIGURE_COLUMNS.len()
     }
 
+    /// The column `s` sorts by after `column`: from `#` to the figures first (shear, tension,
+    /// force, verdict, time), then the parameters, then `#` again.
+    pub(super) fn next_sort_column(&self, column: usize) -> usize {
+        let p = self.table_plan.columns().len();
+        let figures = (p + 1)..self.sort_columns();
+        let order: Vec<usize> = std::iter::once(0).chain(figures).chain(1..=p).collect();
+        let at = order.iter().position(|&c| c == column).unwrap_or(0);
+        order[(at + 1) % order.len()]
+    }
+
     /// The name of a sortable column.
     pub fn sort_name(&self, column: usize) -> String {
         let cols = self.table_plan.columns();

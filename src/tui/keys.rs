@@ -137,7 +137,7 @@ impl App {
                 }
             }
             KeyCode::Char('s') => {
-                self.sort.column = (self.sort.column + 1) % self.sort_columns();
+                self.sort.column = self.next_sort_column(self.sort.column);
                 self.sort.descending = false;
             }
             KeyCode::Char('S') => self.sort.descending = !self.sort.descending,

@@ -216,10 +216,10 @@ fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
                 st.good(),
             )),
         }
-        let hint = match f.target {
+        let hint = match &f.target {
             Target::Accuracy => "coarse (5 mm), standard (2.5 mm) or fine (1.25 mm)",
             Target::LockingAngle => "the fabric's shear locking angle, °",
-            Target::Axis { .. } => "values: 5, 7.5, 10 — or a range: 5..10/3",
+            Target::Axis { key, .. } => axis_hint(key.as_str()),
         };
         lines.push(Line::styled(hint, st.dim()));
     } else {
@@ -354,14 +354,14 @@ fn table_header(app: &App) -> (Vec<String>, Vec<Constraint>) {
         header.push(sorted(p + 1 + k, name));
     }
     header.push("±°".into());
-    let mut widths = vec![Constraint::Length(3)];
-    widths.extend(params.iter().map(|c| {
-        Constraint::Length(match c.name.as_str() {
-            "friction" => 5,
-            "holder_pressure" => 5,
-            _ => 4,
-        })
-    }));
+    // The design numbers in full (1999 and 1998 are not both "199"), and the sort mark.
+    let digits = app.entries.len().saturating_sub(1).max(1).to_string().len() as u16;
+    let mut widths = vec![Constraint::Length(digits.max(2) + 1)];
+    widths.extend(
+        params
+            .iter()
+            .map(|c| Constraint::Length(param_width(&c.name) as u16)),
+    );
     widths.extend([
         Constraint::Length(6),
         Constraint::Length(5),
@@ -373,6 +373,47 @@ fn table_header(app: &App) -> (Vec<String>, Vec<Constraint>) {
     (header, widths)
 }
 
+/// An example of values for a swept key, in its units.
+fn axis_hint(key: &str) -> &'static str {
+    match key {
+        "process.friction" => "values: 0.1, 0.2, 0.3 — or a range: 0.1..0.3/3",
+        "process.holder_pressure" => "values (MPa): 0.5, 1, 2 — or a range: 0.5..2/4",
+        k if k.starts_with("tools.") => "values (mm): 5, 7.5, 10 — or a range: 5..10/3",
+        _ => "values: 1, 2, 3 — or a range: 1..3/3",
+    }
+}
+
+/// The width of a parameter's column, characters.
+fn param_width(name: &str) -> usize {
+    match name {
+        "friction" | "holder_pressure" => 5,
+        _ => 4,
+    }
+}
+
+/// A value in `width` characters: a number rounded (0.2158 → "0.216" in five), not cut.
+fn fit_value(v: &toml::Value, width: usize) -> String {
+    let shown = show_value(v);
+    let Some(x) = crate::study::sweep::as_number(v) else {
+        return shown;
+    };
+    if shown.chars().count() <= width {
+        return shown;
+    }
+    (0..=6)
+        .rev()
+        .map(|d| {
+            let t = format!("{x:.d$}");
+            if t.contains('.') {
+                t.trim_end_matches('0').trim_end_matches('.').to_string()
+            } else {
+                t
+            }
+        })
+        .find(|t| t.chars().count() <= width)
+        .unwrap_or(shown)
+}
+
 /// One design's row: its values, figures (over a limit in red), verdict, run time and error.
 fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
     let [locking, breaking] = e.limits;
@@ -381,7 +422,11 @@ fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
         .and_then(|r| r.max_shear_err_deg)
         .unwrap_or(app.params.accuracy.error().max_shear_deg);
     let mut cells = vec![Cell::from(format!("{}", e.design.index))];
-    cells.extend(e.params.iter().map(|(_, v)| Cell::from(show_value(v))));
+    cells.extend(
+        e.params
+            .iter()
+            .map(|(name, v)| Cell::from(fit_value(v, param_width(name)))),
+    );
     let shear = r.and_then(|r| r.max_shear_deg);
     let tension = r.and_then(|r| r.max_tension_n);
     let over = |v: Option<f64>, limit: f64| {
@@ -482,8 +527,16 @@ const HELP: &[(&str, &str)] = &[
     ("q, Ctrl-C", "quit (a running sweep is cancelled)"),
 ];
 
+/// What the help says under the keys (wrapped to the box).
+const HELP_FOOTER: &str = "Values: 5, 7.5, 10 or a range 5..10/3. Verdicts: ✓ feasible; ≈ marginal (a \
+     limit inside the error band: m re-runs it finer); ✗ shear or ✗ tension over its limit; ! \
+     failed to converge; - invalid (breaks a bound). Any key closes.";
+
 fn render_help(area: Rect, buf: &mut Buffer, st: &Styles) {
-    let rect = centred(area, 76, HELP.len() as u16 + 6);
+    let width = area.width.min(76);
+    let inner = width.saturating_sub(2).max(1) as usize;
+    let footer_lines = HELP_FOOTER.chars().count().div_ceil(inner) as u16 + 1;
+    let rect = centred(area, width, HELP.len() as u16 + 3 + footer_lines);
     Clear.render(rect, buf);
     let mut lines: Vec<Line> = HELP
         .iter()
@@ -495,15 +548,9 @@ fn render_help(area: Rect, buf: &mut Buffer, st: &Styles) {
         })
         .collect();
     lines.push(Line::raw(""));
-    lines.push(Line::styled(
-        "Values: 5, 7.5, 10 or a range 5..10/3. Verdict: ✓ feasible, ✗ shear/tension over",
-        st.dim(),
-    ));
-    lines.push(Line::styled(
-        "the limit, ! failed to converge, - invalid (breaks a bound). Any key closes.",
-        st.dim(),
-    ));
+    lines.push(Line::styled(HELP_FOOTER, st.dim()));
     Paragraph::new(lines)
+        .wrap(ratatui::widgets::Wrap { trim: false })
         .block(Block::bordered().title(" Help "))
         .render(rect, buf);
 }
@@ -521,4 +568,18 @@ fn render_export_prompt(area: Rect, buf: &mut Buffer, buffer: &str, st: &Styles)
     Paragraph::new(lines)
         .block(Block::bordered().title(" Export to folder (Enter) "))
         .render(rect, buf);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fit_value;
+    use toml::Value;
+
+    #[test]
+    fn values_are_rounded_to_their_column_not_cut() {
+        assert_eq!(fit_value(&Value::Float(0.2158), 5), "0.216");
+        assert_eq!(fit_value(&Value::Float(7.5), 4), "7.5");
+        assert_eq!(fit_value(&Value::Float(10.46), 4), "10.5");
+        assert_eq!(fit_value(&Value::Float(1234.6), 4), "1235");
+    }
 }
