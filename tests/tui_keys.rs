@@ -333,3 +333,39 @@ fn m_re_runs_only_the_marginal_designs_one_level_finer() {
         "the settled designs keep theirs"
     );
 }
+
+#[test]
+fn a_new_locking_angle_judges_the_rows_again_without_running() {
+    let mut app = explorer(false);
+    finished_run(&mut app);
+    let verdict = |app: &App, i: usize| {
+        app.entries[i]
+            .row
+            .as_ref()
+            .map(|r| r.verdict.word().to_string())
+    };
+    assert_eq!(verdict(&app, 0).as_deref(), Some("INFEASIBLE"));
+    // r, rp, rm, friction, holder, then the locking angle.
+    press(&mut app, &[KeyCode::Tab]);
+    press(&mut app, &[KeyCode::Down; 5]);
+    app.on_key(key(KeyCode::Enter));
+    for _ in 0..4 {
+        app.on_key(key(KeyCode::Backspace));
+    }
+    type_text(&mut app, "80");
+    app.on_key(key(KeyCode::Enter));
+    // Design 0 at 78.0° ± 1.2°: under 80° by more than its error. Nothing to run again.
+    assert!(!app.edited(), "the table is the edited grid");
+    assert_eq!(verdict(&app, 0).as_deref(), Some("FEASIBLE"));
+    assert_eq!(app.entries[0].limits[0], 80.0);
+    assert!(app.status.contains("judged again"), "{}", app.status);
+    // Design 7 at 58.0°: with the locking angle at 58.5° it lies inside the band.
+    app.on_key(key(KeyCode::Enter));
+    for _ in 0..4 {
+        app.on_key(key(KeyCode::Backspace));
+    }
+    type_text(&mut app, "58.5");
+    app.on_key(key(KeyCode::Enter));
+    assert_eq!(verdict(&app, 7).as_deref(), Some("MARGINAL"));
+    assert_eq!(verdict(&app, 0).as_deref(), Some("INFEASIBLE"));
+}

@@ -398,12 +398,42 @@ impl App {
 
     /// With no results on the table and no run going, the table shows the edited grid.
     pub(super) fn follow_edits(&mut self) {
-        if !self.running() && self.entries.iter().all(|e| e.row.is_none()) {
+        if self.running() {
+            return;
+        }
+        if self.entries.iter().all(|e| e.row.is_none()) {
             self.table_plan = self.params.plan.clone();
             self.entries = entries_of(&self.table_plan);
             self.selected = 0;
             self.sort.column = self.sort.column.min(self.sort_columns() - 1);
+        } else if self.only_the_limit_changed() {
+            // The locking angle changes verdicts, not figures: judge the rows again, run nothing.
+            let locking = self.params.plan.base_scene.fabric.locking_angle_deg;
+            for e in &mut self.entries {
+                e.limits[0] = locking;
+                if let Some(row) = e.row.as_mut() {
+                    rejudge(row, e.limits);
+                }
+            }
+            self.table_plan = self.params.plan.clone();
+            self.status = format!("verdicts judged again against the locking angle of {locking}°");
         }
+    }
+
+    /// The edited parameters differ from the table's only in the locking angle (not swept).
+    fn only_the_limit_changed(&self) -> bool {
+        let (new, old) = (&self.params.plan, &self.table_plan);
+        let swept = |p: &Plan| {
+            p.axes
+                .iter()
+                .any(|a| a.key == "fabric.locking_angle_deg" && a.values.len() > 1)
+        };
+        let mut same = old.base_scene.clone();
+        same.fabric.locking_angle_deg = new.base_scene.fabric.locking_angle_deg;
+        new.base_scene != old.base_scene
+            && same == new.base_scene
+            && new.axes == old.axes
+            && !swept(new)
     }
 
     pub(super) fn move_selection(&mut self, delta: isize) {
@@ -431,4 +461,36 @@ impl App {
             .find(|p| !taken(p))
             .expect("some folder is free")
     }
+}
+
+/// The verdict of a converged, sound row against the limits `[locking °, break N]`: the
+/// figures and their errors stay, the verdict and `feasible` follow the new limits. Rows
+/// without an answer (failed, invalid, not sound) keep theirs.
+pub(super) fn rejudge(row: &mut Row, limits: [f64; 2]) {
+    use crate::verdict::{Facts, Verdict};
+    let answered = matches!(
+        row.verdict,
+        Verdict::Feasible | Verdict::Marginal | Verdict::Infeasible
+    );
+    let (Some(shear), Some(tension)) = (row.max_shear_deg, row.max_tension_n) else {
+        return;
+    };
+    if !answered {
+        return;
+    }
+    let facts = Facts {
+        converged: true,
+        no_answer: false,
+        unsound: &[],
+        max_shear_deg: shear,
+        max_tension_n: tension,
+        locking_angle_deg: limits[0],
+        break_tension_n: limits[1],
+        max_shear_err_deg: row.max_shear_err_deg.unwrap_or(0.0),
+        max_tension_err_pct: row.max_tension_err_pct.unwrap_or(0.0),
+        stroke_reached_mm: 1.0,
+        stroke_mm: 1.0,
+    };
+    row.verdict = Verdict::judge(&facts);
+    row.feasible = row.verdict == Verdict::Feasible;
 }
