@@ -375,3 +375,38 @@ fn bad_input_is_refused_before_any_work() {
     }
     assert!(!dir.join("x").exists() && !dir.join("y").exists());
 }
+
+#[test]
+fn absurd_sizes_are_invalid_rows_kept_on_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // A 1 km blank or 0.001 mm elements: billions of elements, refused before any mesh. A
+    // `--set` of a swept key is overridden in every design, so it stops nothing either.
+    let file = sweep_file(
+        dir,
+        "sizes.toml",
+        "\"blank.size\" = [140.0, 1e6]\n\"mesh.element_size\" = [5.0, 0.001]\n",
+    );
+    for set in ["blank.size=1e6", "mesh.element_size=0.001"] {
+        let out = format!("out-{}", &set[..4]);
+        let o = sweep(dir, &file, &out, &["--set", set, "--jobs", "2"]);
+        let (_, rows) = read_csv(&dir.join(&out).join("results.csv"));
+        assert_eq!(rows.len(), 4, "{}", text(&o.stderr));
+        let run: Vec<_> = rows.iter().filter(|r| r["verdict"] != "INVALID").collect();
+        assert_eq!(run.len(), 1, "{rows:?}");
+        assert_eq!(run[0]["blank.size"], "140");
+        for r in rows.iter().filter(|r| r["verdict"] == "INVALID") {
+            assert!(
+                r["failure"].starts_with("mesh.element_size = ") && r["failure"].contains("memory"),
+                "{r:?}"
+            );
+        }
+        assert!(text(&o.stdout).contains("3 invalid"), "{}", text(&o.stdout));
+        let o = sweep(dir, &file, &out, &["--set", set, "--resume"]);
+        assert!(
+            text(&o.stderr).contains("kept 4 rows; 0 designs to run"),
+            "{}",
+            text(&o.stderr)
+        );
+    }
+}

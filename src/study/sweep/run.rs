@@ -207,17 +207,10 @@ pub fn run(
     let have: HashSet<&str> = kept_rows.iter().map(|r| r.design.as_str()).collect();
     let wanted = |d: &Design| options.only.as_ref().is_none_or(|o| o.contains(&d.id));
     let mine = |index: usize| options.shard.is_none_or(|s| s.contains(index));
-    let mut valid = Vec::new();
-    let mut invalid = Vec::new();
-    for d in designs
+    let todo = designs
         .iter()
-        .filter(|d| mine(d.index) && wanted(d) && !have.contains(d.id.as_str()))
-    {
-        match plan.design_scene(d) {
-            Ok(scene) => valid.push((d, scene)),
-            Err(e) => invalid.push(Row::invalid(plan, &columns, d, e.detail)),
-        }
-    }
+        .filter(|d| mine(d.index) && wanted(d) && !have.contains(d.id.as_str()));
+    let (valid, invalid) = sort_valid(plan, &columns, todo, pool.current_num_threads());
     progress(Progress::Start {
         to_run: valid.len(),
         kept: &kept,
@@ -281,6 +274,36 @@ pub fn run(
         files: vec![dir.join("results.csv")],
         stopped,
     })
+}
+
+/// The designs to run with their scenes, and the rows of those that break a bound of the
+/// scene, or that would not fit in their share of the memory with `threads` designs at once.
+fn sort_valid<'d>(
+    plan: &Plan,
+    columns: &[Column],
+    todo: impl Iterator<Item = &'d Design>,
+    threads: usize,
+) -> (Vec<(&'d Design, Scene)>, Vec<Row>) {
+    let mut valid = Vec::new();
+    let mut invalid = Vec::new();
+    for d in todo {
+        match plan.design_scene(d) {
+            Ok(scene) => valid.push((d, scene)),
+            Err(e) => invalid.push(Row::invalid(plan, columns, d, e.detail)),
+        }
+    }
+    let runs = threads.min(valid.len());
+    if runs > 1 {
+        let budget = crate::machine::memory_budget_bytes();
+        valid.retain(|(d, scene)| {
+            let fits = crate::machine::check_fits_among(&scene.to_problem(), budget, runs);
+            if let Err(why) = &fits {
+                invalid.push(Row::invalid(plan, columns, d, why.clone()));
+            }
+            fits.is_ok()
+        });
+    }
+    (valid, invalid)
 }
 
 /// Runs one design unless stopped; a panic in the program becomes a FAILED row that says so.
