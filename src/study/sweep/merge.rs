@@ -114,7 +114,7 @@ fn gather(inputs: &[PathBuf]) -> Result<Gathered, SweepError> {
                 lock.plan.sweep_file
             )));
         }
-        let (found, r) = store::read_rows(dir, plan).map_err(SweepError::Store)?;
+        let (found, r) = store::read_rows(dir, plan).map_err(store::rows_error)?;
         report.truncated += r.truncated;
         report.foreign += r.foreign;
         report.no_field += r.no_field;
