@@ -492,3 +492,41 @@ fn rows_edited_by_hand_are_run_again_and_an_edited_header_is_refused() {
     );
     assert_eq!(std::fs::read_to_string(&csv).unwrap(), before);
 }
+
+#[test]
+fn a_folder_in_use_is_refused_and_a_stale_lock_taken_over() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let file = sweep_file(dir, "one.toml", "r = 10.0\n");
+    let f = file.to_str().unwrap();
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    let lock_path = out.join("sweep.pid");
+    // Another sweep holds the folder (this test's process, its pid in the file, locked).
+    let held = std::fs::File::create(&lock_path).unwrap();
+    std::fs::write(&lock_path, format!("{}\n", std::process::id())).unwrap();
+    held.try_lock().unwrap();
+    let o = wovenform(dir, &["sweep", f, "--out", "out", "--resume"]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("out: another sweep is writing into this folder")
+            && err.contains(&format!("pid {}", std::process::id())),
+        "{err}"
+    );
+    assert!(!out.join("results.csv").exists());
+    drop(held);
+    // A lock left by a killed sweep: taken over with a note, removed at the end.
+    std::fs::write(&lock_path, "4000000000\n").unwrap();
+    let o = sweep(dir, &file, "out", &[]);
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("took over the lock of pid 4000000000"),
+        "{err}"
+    );
+    assert!(!lock_path.exists());
+    // An error after the lock was taken lets it go too.
+    let o = wovenform(dir, &["sweep", f, "--out", "out"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!lock_path.exists());
+}

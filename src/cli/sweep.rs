@@ -94,7 +94,11 @@ fn show_progress(bar: &ProgressBar, args: &SweepArgs, p: Progress) {
             to_run,
             kept,
             invalid,
+            note,
         } => {
+            if let Some(note) = note {
+                bar.suspend(|| eprintln!("{note}"));
+            }
             if args.resume {
                 bar.suspend(|| {
                     eprintln!(

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use super::SweepError;
 use super::field::StoredField;
+use super::folder_lock::FolderLock;
 use super::grid::{Column, Design};
 use super::plan::Plan;
 use super::rows::Row;
@@ -47,6 +48,8 @@ pub enum Progress<'a> {
         to_run: usize,
         kept: &'a ReadReport,
         invalid: usize,
+        /// A lock left by a sweep that no longer runs, taken over.
+        note: Option<&'a str>,
     },
     /// A design finished (or was found invalid); counts over this run.
     Done {
@@ -76,6 +79,9 @@ pub struct Outcome {
     pub files: Vec<PathBuf>,
     /// Stopped on request before every design had run.
     pub stopped: bool,
+    /// The output folder's lock: held while the outcome lives (the maps and the report are
+    /// drawn into the folder after the run), let go when it is dropped.
+    pub lock: Option<FolderLock>,
 }
 
 /// The threads that run designs (or draw maps) at once; `None`: every core.
@@ -201,7 +207,8 @@ pub fn run(
     let pool = pool(options.jobs)?;
     let columns = plan.columns();
     let designs = plan.designs();
-    // Before any work: the earlier rows, the folder, the lock.
+    // Before any work: the folder's lock (held to the end), the earlier rows, the plan.
+    let (lock, note) = FolderLock::take(dir)?;
     let (kept_rows, kept) = store::earlier_rows(plan, dir, options.resume)?;
     let file = store::open_rows(plan, dir, options.shard, &kept_rows)?;
     let have: HashSet<&str> = kept_rows.iter().map(|r| r.design.as_str()).collect();
@@ -215,6 +222,7 @@ pub fn run(
         to_run: valid.len(),
         kept: &kept,
         invalid: invalid.len(),
+        note: note.as_deref(),
     });
     let sink = Sink {
         state: Mutex::new(SinkState {
@@ -273,6 +281,7 @@ pub fn run(
         wall_s: start.elapsed().as_secs_f64(),
         files: vec![dir.join("results.csv")],
         stopped,
+        lock: Some(lock),
     })
 }
 
