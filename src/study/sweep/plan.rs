@@ -119,13 +119,7 @@ impl Plan {
             }
         }
         let base = BaseText::of(path, doc)?;
-        // A `--set` of a swept key is overridden in every design (the swept values win): it
-        // does not make the base scene, so a value out of bounds there stops nothing.
-        let swept = swept_keys(doc);
-        let overrides: Vec<Override> = parse_sets(sets)?
-            .into_iter()
-            .filter(|o| !swept.contains(&o.key))
-            .collect();
+        let overrides = parse_sets(sets)?;
         let base_scene = Scene::from_toml_str(&base.text, &base.origin, &overrides)?;
         let scene_table = toml::Table::try_from(&base_scene)
             .map_err(|e| SweepError::Run(format!("cannot tabulate the base scene: {e}")))?;
@@ -221,21 +215,6 @@ impl BaseText {
         };
         Ok(BaseText { file, text, origin })
     }
-}
-
-/// The scene keys of the `[sweep]` table (short names as their keys), unchecked.
-fn swept_keys(doc: &toml::Table) -> Vec<String> {
-    let mut entries = Vec::new();
-    if let Some(toml::Value::Table(t)) = doc.get("sweep") {
-        flatten_sweep("", t, &mut entries);
-    }
-    let key_of = |name: String| {
-        SHORT_NAMES
-            .iter()
-            .find(|(s, _)| *s == name)
-            .map_or(name.clone(), |(_, k)| k.to_string())
-    };
-    entries.into_iter().map(|(name, _)| key_of(name)).collect()
 }
 
 /// The swept parameters of the `[sweep]` table, in grid order: the short names first, then
