@@ -190,6 +190,10 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Default::default()),
         Err(e) => return Err(StoreError::io(&path, "read")(e)),
     };
+    // A byte-order mark (a spreadsheet saved the file) is not part of the header.
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
     let mut report = ReadReport::default();
     // A last line without its newline was being written when the program stopped.
     if !text.is_empty() && !text.ends_with('\n') {
@@ -228,9 +232,9 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
             continue;
         }
         match agrees_with_field(dir, &row) {
-            Ok(true) => rows.push(row),
-            Ok(false) => report.edited += 1,
-            Err(_) => report.no_field += 1,
+            Some(true) => rows.push(row),
+            Some(false) => report.edited += 1,
+            None => report.no_field += 1,
         }
     }
     report.kept = rows.len();
@@ -268,18 +272,22 @@ fn check_header(
 }
 
 /// Whether a row read back agrees with its field file (the max shear to the printed
-/// precision, the verdict); a row without a field must be one that did not run (INVALID, or
-/// FAILED without figures). An error: the field file is missing or unreadable.
-fn agrees_with_field(dir: &Path, row: &Row) -> Result<bool, StoreError> {
+/// precision, the verdict); a row without a map must be one that did not run (INVALID, or
+/// FAILED without figures). `None`: its field file is missing or unreadable (or was never
+/// saved: figures without a map).
+fn agrees_with_field(dir: &Path, row: &Row) -> Option<bool> {
     if row.map.is_none() {
-        let no_figures = row.max_shear_deg.is_none() && !row.feasible;
-        return Ok(no_figures && matches!(row.verdict, Verdict::Invalid | Verdict::Failed));
+        if row.max_shear_deg.is_some() {
+            return None;
+        }
+        let did_not_run = matches!(row.verdict, Verdict::Invalid | Verdict::Failed);
+        return Some(did_not_run && !row.feasible);
     }
-    let field = StoredField::read(dir, &row.design)?;
+    let field = StoredField::read(dir, &row.design).ok()?;
     let shear_agrees = row
         .max_shear_deg
         .is_some_and(|s| (s - round_to(field.max_shear_deg, 4)).abs() < 1e-6);
-    Ok(shear_agrees && Verdict::of_sentence(&field.verdict) == row.verdict)
+    Some(shear_agrees && Verdict::of_sentence(&field.verdict) == row.verdict)
 }
 
 /// The rows of an earlier run of this sweep in `dir` (with `--resume`); refuses a folder that
