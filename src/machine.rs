@@ -84,6 +84,22 @@ pub fn check_fits(problem: &DrawingProblem, budget: f64) -> Result<(), String> {
     ))
 }
 
+/// Whether `problem` fits in its share of `budget` when `runs` drawings (a sweep's designs on
+/// `--jobs` threads) are solved at once; the message of [`check_fits`] with the share.
+pub fn check_fits_among(problem: &DrawingProblem, budget: f64, runs: usize) -> Result<(), String> {
+    let runs = runs.max(1);
+    check_fits(problem, budget / runs as f64).map_err(|why| {
+        if runs == 1 {
+            why
+        } else {
+            format!(
+                "{why} (its share: {runs} designs run at once share the budget of {}; fewer --jobs give each more)",
+                show_bytes(budget)
+            )
+        }
+    })
+}
+
 /// Bytes as a person reads them: `712 MiB`, `21.3 GiB`, `2.1e4 TiB`.
 pub fn show_bytes(bytes: f64) -> String {
     let units = [
@@ -116,5 +132,20 @@ mod tests {
         assert_eq!(show_bytes(21.3 * GIB), "21.3 GiB");
         assert_eq!(show_bytes(2.1e4 * 1024.0 * GIB), "2.1e4 TiB");
         assert!(memory_budget_bytes() > 0.0);
+    }
+
+    #[test]
+    fn designs_run_at_once_share_the_budget() {
+        let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
+        p.element_size = 1.0;
+        let need = p.size_estimate().bytes;
+        let budget = 1.5 * need;
+        assert!(check_fits_among(&p, budget, 1).is_ok());
+        let why = check_fits_among(&p, budget, 2).unwrap_err();
+        assert!(why.starts_with("mesh.element_size = 1 mm"), "{why}");
+        assert!(
+            why.contains("2 designs run at once") && why.contains("--jobs"),
+            "{why}"
+        );
     }
 }

@@ -180,6 +180,13 @@ impl Verdict {
         Verdict::ALL.into_iter().find(|v| v.word() == word)
     }
 
+    /// The verdict a sentence of [`Verdict::sentence`] gives: its first word, or FAILED for a
+    /// run that cannot be trusted (`RUN FAILED …`, `NOT SOUND: …`, `NO ANSWER: …`).
+    pub fn of_sentence(sentence: &str) -> Verdict {
+        let word = sentence.split(':').next().unwrap_or("").trim();
+        Verdict::parse(word).unwrap_or(Verdict::Failed)
+    }
+
     /// Every verdict, best first (the order of rankings).
     pub const ALL: [Verdict; 5] = [
         Verdict::Feasible,
@@ -271,5 +278,10 @@ mod tests {
             assert_eq!(Verdict::parse(v.word()), Some(v));
         }
         assert_eq!(Verdict::parse("maybe"), None);
+        assert_eq!(Verdict::of_sentence("FEASIBLE"), Verdict::Feasible);
+        let over = "INFEASIBLE: shear over the locking angle";
+        assert_eq!(Verdict::of_sentence(over), Verdict::Infeasible);
+        let failed = "RUN FAILED at stroke 3.0 of 4.0 mm";
+        assert_eq!(Verdict::of_sentence(failed), Verdict::Failed);
     }
 }

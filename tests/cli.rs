@@ -379,3 +379,93 @@ fn fit_bad_data_exits_2_naming_file_line_and_column() {
     let missing = missing.to_str().unwrap();
     assert_bad_input(&["fit", missing], &[missing]);
 }
+
+/// Writes `text` to `name` in `dir`; its path.
+fn data_file(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+#[test]
+fn fit_refuses_data_without_information() {
+    let dir = tempfile::tempdir().unwrap();
+    let zero = data_file(
+        dir.path(),
+        "zero.csv",
+        "eps1,eps2,t11_n,t22_n\n0.001,0.001,0,0\n0.002,0.001,0,0\n0.003,0.002,0,0\n",
+    );
+    assert_bad_input(&["fit", &zero], &[&zero, "every measured tension"]);
+    let one = data_file(
+        dir.path(),
+        "one.csv",
+        "eps1,eps2,t11_n,t22_n\n0.002,0.001,5,3\n0.002,0.001,5.2,3.1\n",
+    );
+    assert_bad_input(&["fit", &one], &[&one, "one strain"]);
+    // Tensions scattered at random over random strains: no curve in them.
+    let mut seed: u64 = 2;
+    let mut uniform = |lo: f64, hi: f64| {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let mut text = String::from("eps1,eps2,t11_n,t22_n\n");
+    for _ in 0..20 {
+        let (e1, e2) = (uniform(-0.01, 0.01), uniform(-0.01, 0.01));
+        let (t1, t2) = (uniform(-50.0, 50.0), uniform(-50.0, 50.0));
+        text.push_str(&format!("{e1},{e2},{t1},{t2}\n"));
+    }
+    let scattered = data_file(dir.path(), "scattered.csv", &text);
+    assert_bad_input(
+        &["fit", &scattered],
+        &[&scattered, "too little information", "not identified"],
+    );
+}
+
+#[test]
+fn fit_reports_a_parameter_the_data_do_not_pin() {
+    // Linear tensions: a yarn stiffness, but no undulation for A to describe.
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from("eps1,eps2,t11_n,t22_n\n");
+    for i in 1..=40 {
+        let (e1, e2) = (0.0005 * i as f64, 0.0005 * (i % 7) as f64);
+        let wiggle = if i % 2 == 0 { 1.0 } else { -1.0 };
+        text.push_str(&format!(
+            "{e1},{e2},{},{}\n",
+            38000.0 * e1 + wiggle,
+            38000.0 * e2 - wiggle
+        ));
+    }
+    let linear = data_file(dir.path(), "linear.csv", &text);
+    let o = wovenform(&["fit", &linear, "--fit-c"]);
+    let (out, err) = (stdout(&o), stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}\n{err}");
+    let a_line = out.lines().find(|l| l.starts_with("A = ")).unwrap();
+    assert!(a_line.ends_with("on its bound)"), "{out}");
+    assert!(
+        err.contains(&format!("warning: {linear}: A = "))
+            && err.contains("sits on its bound")
+            && !err.contains("C = "),
+        "{err}"
+    );
+    assert!(reported(&out, "C") > 0.0);
+}
+
+#[test]
+fn fit_reads_a_file_with_a_byte_order_mark() {
+    let dir = tempfile::tempdir().unwrap();
+    let law = dir.path().join("law");
+    let o = wovenform(&["law", "--curves", "--out", law.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let curves = std::fs::read_to_string(law.join("figure6.csv")).unwrap();
+    let file = data_file(
+        dir.path(),
+        "bom.csv",
+        &format!("\u{feff}# exported from a spreadsheet\n{curves}"),
+    );
+    let o = wovenform(&["fit", &file]);
+    let out = stdout(&o);
+    assert_eq!(o.status.code(), Some(0), "{out}\n{}", stderr(&o));
+    assert!(reported(&out, "RMS residual") < 1e-3, "{out}");
+}

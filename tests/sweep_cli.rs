@@ -375,3 +375,157 @@ fn bad_input_is_refused_before_any_work() {
     }
     assert!(!dir.join("x").exists() && !dir.join("y").exists());
 }
+
+#[test]
+fn absurd_sizes_are_invalid_rows_kept_on_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // A 1 km blank or 0.001 mm elements: billions of elements, refused before any mesh.
+    let file = sweep_file(
+        dir,
+        "sizes.toml",
+        "\"blank.size\" = [140.0, 1e6]\n\"mesh.element_size\" = [5.0, 0.001]\n",
+    );
+    for jobs in ["1", "2"] {
+        let out = format!("out-{jobs}");
+        let o = sweep(dir, &file, &out, &["--jobs", jobs]);
+        let (_, rows) = read_csv(&dir.join(&out).join("results.csv"));
+        assert_eq!(rows.len(), 4, "{}", text(&o.stderr));
+        let run: Vec<_> = rows.iter().filter(|r| r["verdict"] != "INVALID").collect();
+        assert_eq!(run.len(), 1, "{rows:?}");
+        assert_eq!(run[0]["blank.size"], "140");
+        for r in rows.iter().filter(|r| r["verdict"] == "INVALID") {
+            assert!(
+                r["failure"].starts_with("mesh.element_size = ") && r["failure"].contains("memory"),
+                "{r:?}"
+            );
+        }
+        assert!(text(&o.stdout).contains("3 invalid"), "{}", text(&o.stdout));
+        let o = sweep(dir, &file, &out, &["--resume"]);
+        assert!(
+            text(&o.stderr).contains("kept 4 rows; 0 designs to run"),
+            "{}",
+            text(&o.stderr)
+        );
+    }
+}
+
+/// Writes rows (maps column → value) back as a results.csv with `header`.
+fn write_csv(path: &Path, header: &[String], rows: &[BTreeMap<String, String>]) {
+    let mut w = csv::Writer::from_path(path).unwrap();
+    w.write_record(header).unwrap();
+    for r in rows {
+        let names = header.iter().map(|h| r.get(h).map_or("", String::as_str));
+        w.write_record(names).unwrap();
+    }
+    w.flush().unwrap();
+}
+
+#[test]
+fn rows_edited_by_hand_are_run_again_and_an_edited_header_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let file = sweep_file(dir, "grid.toml", GRID);
+    sweep(dir, &file, "out", &[]);
+    let csv = dir.join("out/results.csv");
+    let (header, all) = read_csv(&csv);
+    let mut edited = all.clone();
+    let ran: Vec<usize> = (0..edited.len())
+        .filter(|&i| !edited[i]["map"].is_empty())
+        .collect();
+    let shear: f64 = edited[ran[0]]["max_shear_deg"].parse().unwrap();
+    edited[ran[0]].insert("max_shear_deg".into(), format!("{:.4}", shear - 10.0));
+    let verdict = if edited[ran[1]]["verdict"] == "FEASIBLE" {
+        "INFEASIBLE"
+    } else {
+        "FEASIBLE"
+    };
+    edited[ran[1]].insert("verdict".into(), verdict.into());
+    write_csv(&csv, &header, &edited);
+    let o = sweep(dir, &file, "out", &["--resume"]);
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("kept 4 rows, dropped 2 that disagree with their field file"),
+        "{err}"
+    );
+    assert!(err.contains("2 designs to run"), "{err}");
+    assert_eq!(comparable(&read_csv(&csv).1), comparable(&all));
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/results.json")).unwrap())
+            .unwrap();
+    let shears: Vec<f64> = json["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|r| r["max_shear_deg"].as_f64())
+        .collect();
+    assert!(
+        shears.iter().all(|s| (s - (shear - 10.0)).abs() > 1e-3),
+        "{shears:?}"
+    );
+
+    // A renamed column: refused (exit 2), naming the file, the column and the expected ones,
+    // and the rows are left as they were.
+    let mut renamed = header.clone();
+    renamed[header.iter().position(|h| h == "max_shear_deg").unwrap()] = "maxshear".into();
+    let rows = read_csv(&csv).1;
+    let rows: Vec<_> = rows
+        .into_iter()
+        .map(|mut r| {
+            let v = r.remove("max_shear_deg").unwrap();
+            r.insert("maxshear".into(), v);
+            r
+        })
+        .collect();
+    write_csv(&csv, &renamed, &rows);
+    let before = std::fs::read_to_string(&csv).unwrap();
+    let f = file.to_str().unwrap();
+    let o = wovenform(dir, &["sweep", f, "--out", "out", "--resume"]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("out/results.csv")
+            && err.contains("`maxshear`")
+            && err.contains(&header.join(",")),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), before);
+}
+
+#[test]
+fn a_folder_in_use_is_refused_and_a_stale_lock_taken_over() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let file = sweep_file(dir, "one.toml", "r = 10.0\n");
+    let f = file.to_str().unwrap();
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    let lock_path = out.join("sweep.pid");
+    // Another sweep holds the folder (this test's process, its pid in the file, locked).
+    let held = std::fs::File::create(&lock_path).unwrap();
+    std::fs::write(&lock_path, format!("{}\n", std::process::id())).unwrap();
+    held.try_lock().unwrap();
+    let o = wovenform(dir, &["sweep", f, "--out", "out", "--resume"]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("out: another sweep is writing into this folder")
+            && err.contains(&format!("pid {}", std::process::id())),
+        "{err}"
+    );
+    assert!(!out.join("results.csv").exists());
+    drop(held);
+    // A lock left by a killed sweep: taken over with a note, removed at the end.
+    std::fs::write(&lock_path, "4000000000\n").unwrap();
+    let o = sweep(dir, &file, "out", &[]);
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("took over the lock of pid 4000000000"),
+        "{err}"
+    );
+    assert!(!lock_path.exists());
+    // An error after the lock was taken lets it go too.
+    let o = wovenform(dir, &["sweep", f, "--out", "out"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!lock_path.exists());
+}

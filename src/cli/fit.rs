@@ -43,14 +43,34 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
         }
     })?;
     let p = result.params;
+    let spread = |name: &str| {
+        let check = result.checks.iter().find(|c| c.name == name);
+        check.map_or(String::new(), |c| {
+            let flag = if c.at_bound.is_some() {
+                ", on its bound"
+            } else if c.unidentified() {
+                ", not identified"
+            } else {
+                ""
+            };
+            format!(" (± {}{flag})", fitting::percent(c.rel_uncertainty))
+        })
+    };
     println!("fit of {}", args.data.display());
-    println!("A = {:.6} mm", p.a);
-    println!("B = {:.6} 1/N", p.b);
-    let c_note = if args.fit_c { "" } else { " (fixed)" };
+    println!("A = {:.6} mm{}", p.a, spread("A"));
+    println!("B = {:.6} 1/N{}", p.b, spread("B"));
+    let c_note = if args.fit_c {
+        spread("C")
+    } else {
+        " (fixed)".into()
+    };
     if p.c[0] == p.c[1] {
         println!("C = {:.1} N{c_note}", p.c[0]);
     } else {
         println!("C = [{:.1}, {:.1}] N{c_note}", p.c[0], p.c[1]);
+    }
+    for warning in result.checks.iter().filter_map(|c| c.warning()) {
+        eprintln!("warning: {}: {warning}", args.data.display());
     }
     println!("RMS residual = {:.4} N", result.rms_n);
     println!("points = {}", result.points);

@@ -121,7 +121,11 @@ fn show_progress(
             to_run,
             kept,
             invalid,
+            note,
         } => {
+            if let Some(note) = note {
+                bar.suspend(|| eprintln!("{note}"));
+            }
             let n = to_run + invalid;
             if args.resume {
                 bar.suspend(|| {

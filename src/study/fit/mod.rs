@@ -10,8 +10,10 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::core::law::{CellLaw, CellParams};
 
+mod identify;
 mod samples;
 
+pub use identify::{ParamCheck, percent};
 pub use samples::{
     COLUMNS, Problem, STRAIN_RANGE, Sample, SamplesError, parse_samples, read_samples,
 };
@@ -35,7 +37,7 @@ impl Default for FitOptions {
 }
 
 /// The outcome of a fit.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct FitResult {
     /// The start parameters with `a`, `b` (and `c`) replaced by the fitted values.
     pub params: CellParams,
@@ -47,6 +49,8 @@ pub struct FitResult {
     pub iterations: usize,
     /// Whether a convergence test was met before the iteration cap.
     pub converged: bool,
+    /// What the data say about each fitted parameter (`A`, `B`, then `C` if fitted).
+    pub checks: Vec<ParamCheck>,
 }
 
 /// The parameter map between the unconstrained vector `x` and the cell parameters.
@@ -89,6 +93,24 @@ impl Model<'_> {
         r
     }
 
+    /// What the data say about each parameter at `x` (residuals `r`).
+    fn checks(&self, x: &DVector<f64>, r: &DVector<f64>) -> Vec<ParamCheck> {
+        let p = self.params(x);
+        let mut names = vec!["A", "B"];
+        let mut values = vec![p.a, p.b];
+        // d ln A / d x0 = 1 − A/H (the logistic map); ln B = x1, ln C = x2.
+        let mut dlog = vec![1.0 - p.a / self.h, 1.0];
+        let mut bounds = vec![identify::a_bound(p.a, self.h), None];
+        if self.fit_c {
+            names.push("C");
+            values.push(p.c[0]);
+            dlog.push(1.0);
+            bounds.push(None);
+        }
+        let j = self.jacobian(x);
+        identify::check_params(self.samples, &names, &values, &dlog, &bounds, &j, r)
+    }
+
     /// Central finite differences in the unconstrained coordinates.
     fn jacobian(&self, x: &DVector<f64>) -> DMatrix<f64> {
         let m = 2 * self.samples.len();
@@ -119,6 +141,8 @@ pub enum FitError {
     TooFewPoints { points: usize, parameters: usize },
     #[error("the fit diverged (non-finite residuals)")]
     Diverged,
+    #[error("{0}")]
+    NoInformation(String),
 }
 
 /// Fits `A`, `B` (and `C` with `options.fit_c`) to the samples, starting from `start`.
@@ -142,6 +166,9 @@ pub fn fit(
             points: samples.len(),
             parameters: n_par,
         });
+    }
+    if let Some(why) = identify::no_information(samples) {
+        return Err(FitError::NoInformation(why));
     }
     let mut x = model.initial();
     let mut r = model.residuals(&x);
@@ -202,12 +229,24 @@ pub fn fit(
     if !rms_n.is_finite() {
         return Err(FitError::Diverged);
     }
+    let checks = model.checks(&x, &r);
+    if checks
+        .iter()
+        .all(|c| c.unidentified() || c.at_bound.is_some())
+    {
+        let why: Vec<String> = checks.iter().filter_map(ParamCheck::warning).collect();
+        return Err(FitError::NoInformation(format!(
+            "the data carry too little information on the law: no parameter is identified ({})",
+            why.join("; ")
+        )));
+    }
     Ok(FitResult {
         params,
         rms_n,
         points: samples.len(),
         iterations,
         converged,
+        checks,
     })
 }
 

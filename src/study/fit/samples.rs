@@ -130,6 +130,8 @@ pub fn parse_samples(text: &str, origin: &str) -> Result<Vec<Sample>, SamplesErr
 }
 
 fn samples_of(text: &str) -> Result<Vec<Sample>, Problem> {
+    // A byte-order mark (as spreadsheets write) is not part of the first line.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lines = text
         .lines()
         .enumerate()
@@ -222,6 +224,8 @@ mod tests {
         )
         .unwrap();
         assert_eq!(s[0].t, [1.5, 0.0]);
+        let bom = "\u{feff}# measured\neps1,eps2,t11_n,t22_n\n0.001,0,1,2\n";
+        assert_eq!(parse_samples(bom, "d.csv").unwrap()[0].t, [1.0, 2.0]);
         let law = "k,eps1,eps2,t11_n,t22_n\n1,0.002,0.002,0.5,0.5\n";
         assert_eq!(
             parse_samples(law, "figure6.csv").unwrap()[0].eps,

@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use super::SweepError;
 use super::field::StoredField;
+use super::folder_lock::FolderLock;
 use super::plan::Plan;
 use super::rows::Row;
 use super::run::Outcome;
@@ -37,6 +38,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepErr
     } = gather(inputs)?;
     report.kept = rows.len();
     rows.sort_by_key(|r| r.index);
+    let (lock, _) = FolderLock::take(out)?;
     store::prepare_dir(out, &plan, None).map_err(SweepError::Folder)?;
     for row in rows.iter().filter(|r| r.map.is_some()) {
         let from = StoredField::path(&sources[&row.design], &row.design);
@@ -62,6 +64,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepErr
         wall_s: start.elapsed().as_secs_f64(),
         files: vec![csv],
         stopped: false,
+        lock: Some(lock),
     };
     Ok((plan, outcome))
 }
@@ -114,7 +117,7 @@ fn gather(inputs: &[PathBuf]) -> Result<Gathered, SweepError> {
                 lock.plan.sweep_file
             )));
         }
-        let (found, r) = store::read_rows(dir, plan).map_err(SweepError::Store)?;
+        let (found, r) = store::read_rows(dir, plan).map_err(store::rows_error)?;
         report.truncated += r.truncated;
         report.foreign += r.foreign;
         report.no_field += r.no_field;

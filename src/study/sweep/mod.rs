@@ -27,12 +27,14 @@
 //! Output folder `DIR`: `results.csv` (a row appended and flushed as each design finishes),
 //! `fields/<id>.json` (each design's shear field, written before its row), `sweep.lock` (the
 //! plan: base scene, grid and their hashes, written before any work), and at the end
-//! `maps/<id>.png` (every map on one colour scale), `report.png` and `results.json`.
+//! `maps/<id>.png` (every map on one colour scale), `report.png` and `results.json`; while a
+//! sweep or a merge writes there, `sweep.pid` locks the folder (see [`FolderLock`]).
 //! `--resume` keeps the rows of `results.csv` whose design is in the grid (and whose field is
 //! there), refuses a folder swept with another base scene, and runs the rest. Shard `I/N` runs
 //! the designs whose index is `I − 1` modulo `N`; [`merge`] puts shard folders back together.
 
 mod field;
+mod folder_lock;
 mod grid;
 mod merge;
 mod plan;
@@ -43,6 +45,7 @@ mod store;
 mod values;
 
 pub use field::StoredField;
+pub use folder_lock::{FolderLock, LOCK_FILE};
 pub use grid::{Column, Design};
 pub use merge::merge;
 pub use plan::{Axis, Plan, SHORT_NAMES};

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use super::SweepError;
 use super::field::StoredField;
+use super::folder_lock::FolderLock;
 use super::grid::{Column, Design};
 use super::plan::Plan;
 use super::rows::Row;
@@ -47,6 +48,8 @@ pub enum Progress<'a> {
         to_run: usize,
         kept: &'a ReadReport,
         invalid: usize,
+        /// A lock left by a sweep that no longer runs, taken over.
+        note: Option<&'a str>,
     },
     /// A design finished (or was found invalid); counts over this run.
     Done {
@@ -76,6 +79,9 @@ pub struct Outcome {
     pub files: Vec<PathBuf>,
     /// Stopped on request before every design had run.
     pub stopped: bool,
+    /// The output folder's lock: held while the outcome lives (the maps and the report are
+    /// drawn into the folder after the run), let go when it is dropped.
+    pub lock: Option<FolderLock>,
 }
 
 /// The threads that run designs (or draw maps) at once; `None`: every core.
@@ -201,27 +207,22 @@ pub fn run(
     let pool = pool(options.jobs)?;
     let columns = plan.columns();
     let designs = plan.designs();
-    // Before any work: the earlier rows, the folder, the lock.
+    // Before any work: the folder's lock (held to the end), the earlier rows, the plan.
+    let (lock, note) = FolderLock::take(dir)?;
     let (kept_rows, kept) = store::earlier_rows(plan, dir, options.resume)?;
     let file = store::open_rows(plan, dir, options.shard, &kept_rows)?;
     let have: HashSet<&str> = kept_rows.iter().map(|r| r.design.as_str()).collect();
     let wanted = |d: &Design| options.only.as_ref().is_none_or(|o| o.contains(&d.id));
     let mine = |index: usize| options.shard.is_none_or(|s| s.contains(index));
-    let mut valid = Vec::new();
-    let mut invalid = Vec::new();
-    for d in designs
+    let todo = designs
         .iter()
-        .filter(|d| mine(d.index) && wanted(d) && !have.contains(d.id.as_str()))
-    {
-        match plan.design_scene(d) {
-            Ok(scene) => valid.push((d, scene)),
-            Err(e) => invalid.push(Row::invalid(plan, &columns, d, e.detail)),
-        }
-    }
+        .filter(|d| mine(d.index) && wanted(d) && !have.contains(d.id.as_str()));
+    let (valid, invalid) = sort_valid(plan, &columns, todo, pool.current_num_threads());
     progress(Progress::Start {
         to_run: valid.len(),
         kept: &kept,
         invalid: invalid.len(),
+        note: note.as_deref(),
     });
     let sink = Sink {
         state: Mutex::new(SinkState {
@@ -280,7 +281,38 @@ pub fn run(
         wall_s: start.elapsed().as_secs_f64(),
         files: vec![dir.join("results.csv")],
         stopped,
+        lock: Some(lock),
     })
+}
+
+/// The designs to run with their scenes, and the rows of those that break a bound of the
+/// scene, or that would not fit in their share of the memory with `threads` designs at once.
+fn sort_valid<'d>(
+    plan: &Plan,
+    columns: &[Column],
+    todo: impl Iterator<Item = &'d Design>,
+    threads: usize,
+) -> (Vec<(&'d Design, Scene)>, Vec<Row>) {
+    let mut valid = Vec::new();
+    let mut invalid = Vec::new();
+    for d in todo {
+        match plan.design_scene(d) {
+            Ok(scene) => valid.push((d, scene)),
+            Err(e) => invalid.push(Row::invalid(plan, columns, d, e.detail)),
+        }
+    }
+    let runs = threads.min(valid.len());
+    if runs > 1 {
+        let budget = crate::machine::memory_budget_bytes();
+        valid.retain(|(d, scene)| {
+            let fits = crate::machine::check_fits_among(&scene.to_problem(), budget, runs);
+            if let Err(why) = &fits {
+                invalid.push(Row::invalid(plan, columns, d, why.clone()));
+            }
+            fits.is_ok()
+        });
+    }
+    (valid, invalid)
 }
 
 /// Runs one design unless stopped; a panic in the program becomes a FAILED row that says so.

@@ -13,8 +13,9 @@ use super::SweepError;
 use super::field::StoredField;
 use super::grid::Design;
 use super::plan::Plan;
-use super::rows::{Row, csv_header};
+use super::rows::{Row, column_names, csv_header, round_to};
 use super::shard::Shard;
+use crate::verdict::Verdict;
 
 /// Why the folder could not be read or written.
 #[derive(Debug, thiserror::Error)]
@@ -37,6 +38,16 @@ pub enum StoreError {
         path: PathBuf,
         #[source]
         source: serde_json::Error,
+    },
+    #[error(
+        "{}: the header has {problem}; expected the columns {expected} (the header was edited: restore it, or remove the folder to start again)",
+        path.display()
+    )]
+    Header {
+        path: PathBuf,
+        /// What is wrong: the column found that a sweep does not write, or the one missing.
+        problem: String,
+        expected: String,
     },
     #[error("{}: {source}", path.display())]
     Field {
@@ -133,11 +144,14 @@ pub struct ReadReport {
     pub duplicates: usize,
     /// Rows whose field file is missing (they are run again).
     pub no_field: usize,
+    /// Rows that disagree with their field file (a figure or the verdict edited by hand):
+    /// run again.
+    pub edited: usize,
 }
 
 impl ReadReport {
     pub fn dropped(&self) -> usize {
-        self.truncated + self.foreign + self.duplicates + self.no_field
+        self.truncated + self.foreign + self.duplicates + self.no_field + self.edited
     }
 
     pub fn describe(&self) -> String {
@@ -153,6 +167,12 @@ impl ReadReport {
         }
         if self.no_field > 0 {
             parts.push(format!("{} without their field file", self.no_field));
+        }
+        if self.edited > 0 {
+            parts.push(format!(
+                "{} that disagree with their field file (max shear or verdict edited; run again)",
+                self.edited
+            ));
         }
         if parts.is_empty() {
             format!("kept {} rows", self.kept)
@@ -170,6 +190,10 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Default::default()),
         Err(e) => return Err(StoreError::io(&path, "read")(e)),
     };
+    // A byte-order mark (a spreadsheet saved the file) is not part of the header.
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
     let mut report = ReadReport::default();
     // A last line without its newline was being written when the program stopped.
     if !text.is_empty() && !text.ends_with('\n') {
@@ -183,6 +207,7 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
     let Ok(header_fields) = reader.headers().cloned() else {
         return Ok((Vec::new(), report));
     };
+    check_header(&path, dir, plan, &header_fields)?;
     let header: HashMap<&str, usize> = header_fields
         .iter()
         .enumerate()
@@ -206,14 +231,63 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
             report.duplicates += 1;
             continue;
         }
-        if row.map.is_some() && StoredField::read(dir, &row.design).is_err() {
-            report.no_field += 1;
-            continue;
+        match agrees_with_field(dir, &row) {
+            Some(true) => rows.push(row),
+            Some(false) => report.edited += 1,
+            None => report.no_field += 1,
         }
-        rows.push(row);
     }
     report.kept = rows.len();
     Ok((rows, report))
+}
+
+/// Refuses a header that is not the one this sweep (or the folder's own, from its
+/// `sweep.lock`) writes: a renamed or unknown column would otherwise drop every row.
+fn check_header(
+    path: &Path,
+    dir: &Path,
+    plan: &Plan,
+    found: &csv::StringRecord,
+) -> Result<(), StoreError> {
+    let expected = column_names(&plan.columns());
+    let folder = read_lock(dir).ok().map(|l| column_names(&l.plan.columns()));
+    let found: Vec<&str> = found.iter().collect();
+    let same = |names: &[String]| names.iter().map(String::as_str).eq(found.iter().copied());
+    if same(&expected) || folder.as_deref().is_some_and(same) {
+        return Ok(());
+    }
+    let known = folder.as_ref().unwrap_or(&expected);
+    let problem = match found.iter().find(|f| !known.iter().any(|k| k == *f)) {
+        Some(unknown) => format!("a column `{unknown}`"),
+        None => match known.iter().find(|k| !found.contains(&k.as_str())) {
+            Some(missing) => format!("no column `{missing}`"),
+            None => format!("the columns in another order ({})", found.join(",")),
+        },
+    };
+    Err(StoreError::Header {
+        path: path.to_path_buf(),
+        problem,
+        expected: known.join(","),
+    })
+}
+
+/// Whether a row read back agrees with its field file (the max shear to the printed
+/// precision, the verdict); a row without a map must be one that did not run (INVALID, or
+/// FAILED without figures). `None`: its field file is missing or unreadable (or was never
+/// saved: figures without a map).
+fn agrees_with_field(dir: &Path, row: &Row) -> Option<bool> {
+    if row.map.is_none() {
+        if row.max_shear_deg.is_some() {
+            return None;
+        }
+        let did_not_run = matches!(row.verdict, Verdict::Invalid | Verdict::Failed);
+        return Some(did_not_run && !row.feasible);
+    }
+    let field = StoredField::read(dir, &row.design).ok()?;
+    let shear_agrees = row
+        .max_shear_deg
+        .is_some_and(|s| (s - round_to(field.max_shear_deg, 4)).abs() < 1e-6);
+    Some(shear_agrees && Verdict::of_sentence(&field.verdict) == row.verdict)
 }
 
 /// The rows of an earlier run of this sweep in `dir` (with `--resume`); refuses a folder that
@@ -249,7 +323,15 @@ pub fn earlier_rows(
             plan.base_file.as_deref().unwrap_or("the inline scene"),
         )));
     }
-    read_rows(dir, plan).map_err(SweepError::Store)
+    read_rows(dir, plan).map_err(rows_error)
+}
+
+/// An error reading the rows: an edited header is bad input (exit 2), the rest a failure.
+pub(super) fn rows_error(e: StoreError) -> SweepError {
+    match e {
+        StoreError::Header { .. } => SweepError::Folder(e),
+        other => SweepError::Store(other),
+    }
 }
 
 /// Prepares the folder and writes `results.csv` anew with the rows kept (a half-written line
