@@ -68,3 +68,29 @@ fn a_sweep_says_how_many_designs_and_how_long_and_starts_no_idle_workers() {
         text(&o.stderr)
     );
 }
+
+#[test]
+fn a_resume_on_another_scene_names_what_changed() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = common::preset("paper-box-open.toml");
+    let file = dir.path().join("s.toml");
+    std::fs::write(
+        &file,
+        format!("base = {base:?}\n\n[scene]\nprocess.stroke = 4.0\nblank.size = 140.0\n\n[sweep]\nr = [5.0]\n"),
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let o = wovenform(
+        dir.path(),
+        &["sweep", f, "--out", "o", "--accuracy", "coarse"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let o = wovenform(dir.path(), &["sweep", f, "--out", "o", "--resume"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    // It used to say "(X with Y; now X with Y)": both sides the same.
+    assert!(
+        text(&o.stderr).contains("mesh.element_size: 5.0 → 2.5"),
+        "{}",
+        text(&o.stderr)
+    );
+}

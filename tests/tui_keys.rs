@@ -57,6 +57,33 @@ fn cancel_keeps_the_rows_and_r_resumes_the_same_folder() {
 }
 
 #[test]
+fn after_a_cancel_another_accuracy_is_a_new_run_not_a_resume() {
+    let mut app = explorer(false);
+    app.on_key(key(KeyCode::Char('r')));
+    app.on_message(Message::Started { to_run: 8, kept: 0 });
+    deliver(&mut app, &[0, 7]);
+    app.on_key(key(KeyCode::Char('c')));
+    app.on_message(Message::Finished {
+        stopped: true,
+        wall_s: 6.0,
+        error: None,
+    });
+    // The accuracy one level down (the last parameter, ←): the scene is another one, so its
+    // rows cannot be resumed into the cancelled run's folder (which used to fail).
+    press(&mut app, &[KeyCode::Tab, KeyCode::End, KeyCode::Left]);
+    match app.on_key(key(KeyCode::Char('r'))) {
+        Command::Start {
+            dir, resume, plan, ..
+        } => {
+            assert!(!resume);
+            assert_eq!(dir, PathBuf::from("/session/run-2"));
+            assert_eq!(plan.base_scene.mesh.element_size, 5.0);
+        }
+        other => panic!("expected a new run, got {other:?}"),
+    }
+}
+
+#[test]
 fn editing_checks_as_you_type_and_commits_only_valid_values() {
     let mut app = explorer(false);
     app.on_key(key(KeyCode::Tab));

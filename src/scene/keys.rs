@@ -111,6 +111,45 @@ impl Scene {
     }
 }
 
+/// The keys whose values differ between two scenes, as `key: old → new` (TOML literals), in
+/// key order: what a person needs to see when two runs are not of the same scene.
+pub fn differences(old: &Scene, new: &Scene) -> Vec<String> {
+    fn flatten(prefix: &str, v: &toml::Value, out: &mut Vec<(String, String)>) {
+        match v {
+            toml::Value::Table(t) => {
+                for (k, v) in t {
+                    let key = if prefix.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{prefix}.{k}")
+                    };
+                    flatten(&key, v, out);
+                }
+            }
+            other => out.push((prefix.to_string(), other.to_string())),
+        }
+    }
+    let flat = |s: &Scene| {
+        let mut out = Vec::new();
+        if let Ok(v) = toml::Value::try_from(s) {
+            flatten("", &v, &mut out);
+        }
+        out.into_iter()
+            .collect::<std::collections::BTreeMap<_, _>>()
+    };
+    let (a, b) = (flat(old), flat(new));
+    let keys: std::collections::BTreeSet<&String> = a.keys().chain(b.keys()).collect();
+    keys.into_iter()
+        .filter(|k| a.get(*k) != b.get(*k))
+        .map(|k| {
+            let show = |m: &std::collections::BTreeMap<String, String>| {
+                m.get(k).cloned().unwrap_or_else(|| "(none)".into())
+            };
+            format!("{k}: {} → {}", show(&a), show(&b))
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::parse;
@@ -173,5 +212,19 @@ mod tests {
         // A file without box keys switches.
         let s = parse("[tools]\nrm = 6\n", &sets).unwrap();
         assert_eq!(s.tools.kind, ToolKind::Hemisphere);
+    }
+
+    #[test]
+    fn differences_name_the_keys_and_both_values() {
+        let a = parse("", &[]).unwrap();
+        let b = parse("", &["mesh.element_size=5.0", "process.friction=0.25"]).unwrap();
+        assert_eq!(
+            differences(&a, &b),
+            [
+                "mesh.element_size: 2.5 → 5.0",
+                "process.friction: 0.2 → 0.25"
+            ]
+        );
+        assert!(differences(&a, &a).is_empty());
     }
 }

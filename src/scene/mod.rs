@@ -58,7 +58,7 @@ use serde::{Deserialize, Serialize};
 use crate::core::drawing::{DrawingProblem, Symmetry};
 use crate::core::law::CellParams;
 
-pub use keys::lookup;
+pub use keys::{differences, lookup};
 pub use overrides::Override;
 pub use types::{
     Blank, DEFAULT_BOX_RADII, Fabric, MeshSettings, Num, Numerics, PerYarn, PlanPair, Process,

@@ -15,8 +15,11 @@ impl App {
             return Command::None;
         }
         let plan = self.params.plan.clone();
+        // A cancelled run is resumed only for the same grid on the same scene (the accuracy or
+        // the locking angle edited since is another scene: a new run).
         let resume = matches!(self.run, RunState::Cancelled { .. })
             && plan.sweep_hash == self.table_plan.sweep_hash
+            && plan.base_hash == self.table_plan.base_hash
             && self.run_dir.is_some();
         let dir = if resume {
             self.run_dir.clone().expect("checked")

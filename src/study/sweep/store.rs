@@ -314,13 +314,20 @@ pub fn earlier_rows(
         ))
     })?;
     if lock.base_hash != plan.base_hash {
+        let mut changed = crate::scene::differences(&lock.plan.base_scene, &plan.base_scene);
+        if changed.is_empty() {
+            changed.push(format!(
+                "{} with {}, now {} with {}",
+                lock.plan.sweep_file,
+                lock.plan.base_file.as_deref().unwrap_or("the inline scene"),
+                plan.sweep_file,
+                plan.base_file.as_deref().unwrap_or("the inline scene"),
+            ));
+        }
         return Err(SweepError::BadInput(format!(
-            "--resume: {} was swept with another base scene ({} with {}; now {} with {}): its rows cannot be reused; use another --out, or remove the folder to start again",
+            "--resume: {} was swept with another base scene ({}): its rows cannot be reused; use another --out, or remove the folder to start again",
             dir.display(),
-            lock.plan.sweep_file,
-            lock.plan.base_file.as_deref().unwrap_or("the inline scene"),
-            plan.sweep_file,
-            plan.base_file.as_deref().unwrap_or("the inline scene"),
+            changed.join("; "),
         )));
     }
     read_rows(dir, plan).map_err(rows_error)
