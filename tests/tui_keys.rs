@@ -396,3 +396,17 @@ fn a_new_locking_angle_judges_the_rows_again_without_running() {
     assert_eq!(verdict(&app, 7).as_deref(), Some("MARGINAL"));
     assert_eq!(verdict(&app, 0).as_deref(), Some("INFEASIBLE"));
 }
+
+#[test]
+fn a_status_message_fades_and_a_new_one_shows_at_once() {
+    let mut app = explorer(false);
+    app.status = "exported to /tmp/x".into();
+    assert_eq!(app.fresh_status(), Some("exported to /tmp/x"));
+    app.note_status_time();
+    app.now_s = 5.0;
+    assert!(app.fresh_status().is_some(), "still news after 5 s");
+    app.now_s = 30.0;
+    assert_eq!(app.fresh_status(), None, "stale after 30 s");
+    app.status = "cancelling…".into();
+    assert_eq!(app.fresh_status(), Some("cancelling…"));
+}

@@ -85,6 +85,9 @@ pub struct Entry {
     pub limits: [f64; 2],
 }
 
+/// How long a status message stays in the Run panel, s.
+pub const STATUS_S: f64 = 12.0;
+
 /// The columns of the results table one can sort by, after the parameters.
 pub const FIGURE_COLUMNS: [&str; 6] = ["#", "shear", "tension", "force", "verdict", "time"];
 
@@ -119,6 +122,9 @@ pub struct App {
     pub run_started_s: f64,
     /// A line for the user: the export's path, an error.
     pub status: String,
+    /// The status as last seen by the clock, and since when (s): a message fades after
+    /// [`STATUS_S`] so the Run panel does not keep stale news.
+    pub status_seen: (String, f64),
     /// Where the runs of this session are written.
     pub session: PathBuf,
     pub runs: usize,
@@ -201,6 +207,7 @@ impl App {
             to_run: 0,
             done: 0,
             now_s: 0.0,
+            status_seen: (String::new(), 0.0),
             run_started_s: 0.0,
             status: String::new(),
             session,
@@ -214,6 +221,19 @@ impl App {
 
     pub fn running(&self) -> bool {
         matches!(self.run, RunState::Running | RunState::Stopping)
+    }
+
+    /// Notes the time the status changed (called on every tick).
+    pub fn note_status_time(&mut self) {
+        if self.status != self.status_seen.0 {
+            self.status_seen = (self.status.clone(), self.now_s);
+        }
+    }
+
+    /// The status while it is news: set less than [`STATUS_S`] ago.
+    pub fn fresh_status(&self) -> Option<&str> {
+        let fresh = self.status != self.status_seen.0 || self.now_s - self.status_seen.1 < STATUS_S;
+        (!self.status.is_empty() && fresh).then_some(self.status.as_str())
     }
 
     /// The parameters were edited since the table's designs were laid out.

@@ -110,6 +110,7 @@ fn event_loop(
     let mut stop: Option<Arc<AtomicBool>> = None;
     loop {
         app.now_s = opened.elapsed().as_secs_f64();
+        app.note_status_time();
         while let Ok(m) = rx.try_recv() {
             app.on_message(m);
         }

@@ -282,8 +282,8 @@ fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
                 st.warn(),
             ));
         }
-        if !app.status.is_empty() {
-            lines.push(Line::raw(app.status.clone()));
+        if let Some(status) = app.fresh_status() {
+            lines.push(Line::raw(status.to_string()));
         }
     }
     let block = Block::bordered().title(title).border_style(st.dim());
@@ -454,12 +454,10 @@ fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
 }
 
 fn render_gauge(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
-    let total = app.to_run.max(app.done).max(1);
-    let ratio = if app.running() || app.done > 0 {
-        (app.done as f64 / total as f64).min(1.0)
-    } else {
-        0.0
-    };
+    // The table's count, as the Run panel says it; a resumed or partial run adds its own.
+    let (finished, _) = app.counts();
+    let total = app.entries.len().max(1);
+    let ratio = (finished as f64 / total as f64).min(1.0);
     let eta = app
         .eta_s()
         .map(|s| format!(", ETA {}", show_duration(s)))
@@ -472,7 +470,15 @@ fn render_gauge(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let label = if app.run == RunState::Idle {
         "no run yet".to_string()
     } else {
-        format!("{}/{} designs{elapsed}{eta}", app.done, app.to_run)
+        let this_run = if app.to_run != app.entries.len() {
+            format!(" ({}/{} in this run)", app.done, app.to_run)
+        } else {
+            String::new()
+        };
+        format!(
+            "{finished}/{} designs{this_run}{elapsed}{eta}",
+            app.entries.len()
+        )
     };
     let gauge = Gauge::default()
         .ratio(ratio)
