@@ -469,3 +469,19 @@ fn fit_reads_a_file_with_a_byte_order_mark() {
     assert_eq!(o.status.code(), Some(0), "{out}\n{}", stderr(&o));
     assert!(reported(&out, "RMS residual") < 1e-3, "{out}");
 }
+
+#[test]
+fn a_closed_pipe_ends_the_program_without_a_panic() {
+    // `wovenform | head`: the reader is gone before the overview is printed.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_wovenform"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .stdin(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_ne!(out.status.code(), Some(101), "{err}");
+}

@@ -410,3 +410,31 @@ fn a_status_message_fades_and_a_new_one_shows_at_once() {
     app.status = "cancelling…".into();
     assert_eq!(app.fresh_status(), Some("cancelling…"));
 }
+
+#[test]
+fn exports_stay_out_of_repositories_and_old_sessions_are_pruned() {
+    let dir = tempfile::tempdir().unwrap();
+    // Not in a repository: the working folder.
+    assert_eq!(wovenform::tui::export_home(dir.path()), PathBuf::new());
+    // In (or below) one: ~/wovenform.
+    std::fs::create_dir_all(dir.path().join("repo/.git")).unwrap();
+    std::fs::create_dir_all(dir.path().join("repo/sub")).unwrap();
+    if let Some(home) = std::env::var_os("HOME") {
+        assert_eq!(
+            wovenform::tui::export_home(&dir.path().join("repo/sub")),
+            PathBuf::from(home).join("wovenform")
+        );
+    }
+    // Sessions: the one left 8 days ago goes, today's and other folders stay.
+    let old = dir.path().join("wovenform-explorer-old");
+    let new = dir.path().join("wovenform-explorer-new");
+    std::fs::create_dir_all(old.join("run-1")).unwrap();
+    std::fs::create_dir_all(&new).unwrap();
+    let eight_days = std::time::Duration::from_secs(8 * 86_400);
+    std::fs::File::open(&old)
+        .unwrap()
+        .set_modified(std::time::SystemTime::now() - eight_days)
+        .unwrap();
+    assert_eq!(wovenform::tui::prune_sessions(dir.path(), 7), 1);
+    assert!(!old.exists() && new.exists() && dir.path().join("repo").exists());
+}

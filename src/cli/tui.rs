@@ -38,6 +38,14 @@ pub fn exec(args: TuiArgs) -> Result<(), CliError> {
             "the explorer needs a terminal; use `wovenform sweep SWEEP.toml --out DIR` in scripts",
         ));
     }
+    let pruned = tui::prune_sessions(&std::env::temp_dir(), 7);
+    if pruned > 0 {
+        eprintln!(
+            "wovenform explorer: removed {pruned} session folder{} older than 7 days from {}",
+            if pruned == 1 { "" } else { "s" },
+            std::env::temp_dir().display()
+        );
+    }
     let session = tempfile::Builder::new()
         .prefix("wovenform-explorer-")
         .tempdir()

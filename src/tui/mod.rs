@@ -79,6 +79,8 @@ fn install_panic_hook() {
 /// written under `session` (a folder per run), so that nothing is lost on a crash.
 pub fn explore(params: Parameters, session: PathBuf) -> Result<(), String> {
     let mut app = App::new(params, session.clone(), colour_wanted());
+    app.export_dir =
+        export_home(&std::env::current_dir().unwrap_or_default()).join(&app.export_dir);
     enable_raw_mode().map_err(|e| format!("cannot take the terminal: {e}"))?;
     if let Err(e) = execute!(io::stdout(), EnterAlternateScreen) {
         restore();
@@ -90,9 +92,16 @@ pub fn explore(params: Parameters, session: PathBuf) -> Result<(), String> {
         .and_then(|mut terminal| event_loop(&mut terminal, &mut app));
     restore();
     if app.runs > 0 {
+        let runs: Vec<String> = (1..=app.runs)
+            .map(|k| session.join(format!("run-{k}")))
+            .filter(|d| d.join("results.csv").exists())
+            .map(|d| d.display().to_string())
+            .collect();
         eprintln!(
-            "wovenform explorer: the rows of this session are kept in {} (wovenform merge DIR --out OUT exports one)",
-            session.display()
+            "wovenform explorer: the rows of this session are kept in {} (each a sweep folder: \
+             `wovenform merge {} --out OUT` exports the last)",
+            runs.join(", "),
+            runs.last().map_or("RUN", |s| s.as_str())
         );
     } else {
         // Nothing was run: leave no empty session folder behind (it is removed only if empty).
@@ -150,4 +159,39 @@ fn event_loop(
             Command::Export { from, to } => worker::start_export(from, to, tx.clone()),
         }
     }
+}
+
+/// Where exports go by default: the working folder, unless it lies inside a repository (a
+/// `.git` in it or above it), where results do not belong: then `~/wovenform`.
+pub fn export_home(cwd: &std::path::Path) -> PathBuf {
+    let in_repository = cwd.ancestors().any(|a| a.join(".git").exists());
+    match std::env::var_os("HOME") {
+        Some(home) if in_repository => PathBuf::from(home).join("wovenform"),
+        _ => PathBuf::new(),
+    }
+}
+
+/// Removes the explorer's session folders in `temp` left more than `days` ago (each kept its
+/// runs for a crash); returns how many went.
+pub fn prune_sessions(temp: &std::path::Path, days: u64) -> usize {
+    let Ok(entries) = std::fs::read_dir(temp) else {
+        return 0;
+    };
+    let old = std::time::Duration::from_secs(days * 86_400);
+    entries
+        .flatten()
+        .filter(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .starts_with("wovenform-explorer-")
+        })
+        .filter(|e| {
+            e.metadata()
+                .and_then(|m| m.modified())
+                .ok()
+                .and_then(|t| t.elapsed().ok())
+                .is_some_and(|age| age > old)
+        })
+        .filter(|e| std::fs::remove_dir_all(e.path()).is_ok())
+        .count()
 }
