@@ -227,7 +227,14 @@ fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
         let (done, feasible) = app.counts();
         let total = app.entries.len();
         let state = match &app.run {
-            RunState::Idle => Line::raw(format!("ready: r runs {total} designs")),
+            RunState::Idle => {
+                // A rough figure (the mesh and the stroke), one core a design.
+                let each = crate::accuracy::run_seconds_estimate(&app.params.plan.base_scene);
+                Line::raw(format!(
+                    "ready: r runs {total} designs, about {} each",
+                    show_duration(each.max(1.0))
+                ))
+            }
             RunState::Running => {
                 Line::raw(format!("running: {done}/{total} done, {feasible} feasible"))
             }
