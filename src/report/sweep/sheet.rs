@@ -98,13 +98,23 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
         .collect();
     vec![
         format!(
-            "Base scene: {} — {tools}, clearance {} mm, stroke {} mm, blank {} × {} mm, {law}, mesh {} mm; locking angle {}°, break tension {} N",
+            "Base scene: {} — {tools}, clearance {} mm, stroke {} mm, blank {} × {} mm, {law}, mesh {} mm{}; locking angle {}°, break tension {} N",
             plan.base_file.as_deref().unwrap_or(&plan.base_origin),
             t.clearance,
             base.process.stroke,
             base.blank.size.0[0],
             base.blank.size.0[1],
             base.mesh.element_size,
+            match crate::accuracy::Accuracy::of_element_size(base.mesh.element_size) {
+                Some(level) => {
+                    let e = level.error();
+                    format!(
+                        " ({level}: max shear ±{}°, force ±{} %, tension ±{} % where radii ≥ 5 mm)",
+                        e.max_shear_deg, e.punch_force_pct, e.max_tension_pct
+                    )
+                }
+                None => " (no accuracy level: no error estimate)".into(),
+            },
             base.fabric.locking_angle_deg,
             base.fabric.break_tension_n
         ),
