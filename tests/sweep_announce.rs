@@ -94,3 +94,62 @@ fn a_resume_on_another_scene_names_what_changed() {
         text(&o.stderr)
     );
 }
+
+#[test]
+fn a_grown_grid_resumes_with_the_rows_of_the_same_values() {
+    // A design is its values: adding r = 7.5 renumbers r = 10, whose row (and map and field)
+    // is kept; only the new designs run.
+    let dir = tempfile::tempdir().unwrap();
+    let base = common::preset("paper-box-open.toml");
+    let write = |name: &str, r: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(
+            &path,
+            format!("base = {base:?}\n\n[scene]\nmesh.element_size = 5.0\nprocess.stroke = 4.0\nblank.size = 140.0\n\n[sweep]\nr = {r}\nfriction = [0.1, 0.2]\n"),
+        )
+        .unwrap();
+        path
+    };
+    let small = write("small.toml", "[5.0, 10.0]");
+    let grown = write("grown.toml", "[5.0, 7.5, 10.0]");
+    let o = wovenform(
+        dir.path(),
+        &["sweep", small.to_str().unwrap(), "--out", "o"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let before = std::fs::read_to_string(dir.path().join("o/results.csv")).unwrap();
+    let o = wovenform(
+        dir.path(),
+        &["sweep", grown.to_str().unwrap(), "--out", "o", "--resume"],
+    );
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(err.contains("kept 4 rows (2 renumbered"), "{err}");
+    assert!(err.contains("2 designs to run"), "{err}");
+    let after = std::fs::read_to_string(dir.path().join("o/results.csv")).unwrap();
+    assert_eq!(after.lines().count(), 7, "{after}");
+    // r = 10 at friction 0.1 was d002, now d004: same figures, its map and field renamed.
+    let line = |text: &str, id: &str| {
+        text.lines()
+            .find(|l| l.contains(id))
+            .map(|l| l.split(',').take(8).collect::<Vec<_>>().join(","))
+    };
+    let old_id = before
+        .lines()
+        .find(|l| l.starts_with("10,") && l.contains(",0.1,"))
+        .and_then(|l| l.split(',').find(|f| f.starts_with("d00")))
+        .unwrap()
+        .to_string();
+    let hash = old_id.split('-').nth(1).unwrap();
+    let new_id = after
+        .lines()
+        .filter_map(|l| l.split(',').find(|f| f.ends_with(hash)))
+        .next()
+        .unwrap()
+        .to_string();
+    assert_ne!(old_id, new_id);
+    assert_eq!(line(&before, &old_id), line(&after, &new_id));
+    assert!(dir.path().join(format!("o/maps/{new_id}.png")).is_file());
+    assert!(dir.path().join(format!("o/fields/{new_id}.json")).is_file());
+    assert!(!dir.path().join(format!("o/fields/{old_id}.json")).exists());
+}

@@ -137,18 +137,42 @@ fn editing_after_a_run_marks_the_table_as_the_previous_grid() {
     app.on_key(key(KeyCode::Enter));
     assert!(app.edited());
     assert_eq!(app.entries.len(), 8, "the results stay until the next run");
+    let before: Vec<(String, Option<f64>)> = app
+        .entries
+        .iter()
+        .map(|e| {
+            (
+                e.design.id.clone(),
+                e.row.as_ref().and_then(|r| r.max_shear_deg),
+            )
+        })
+        .collect();
     match app.on_key(key(KeyCode::Char('r'))) {
         Command::Start {
             plan, dir, resume, ..
         } => {
             assert_eq!(plan.len(), 16);
-            assert_eq!(dir, PathBuf::from("/session/run-2"));
-            assert!(!resume);
+            // A design is its values: the grown grid resumes in the same folder, and the store
+            // keeps the eight finished rows (renumbered) and runs the eight new designs.
+            assert_eq!(dir, PathBuf::from("/session/run-1"));
+            assert!(resume);
         }
         other => panic!("expected a start, got {other:?}"),
     }
     assert_eq!(app.entries.len(), 16);
-    assert_eq!(app.counts(), (0, 0));
+    assert_eq!(app.counts().0, 8, "the finished rows stay on the table");
+    // Each kept row sits on the design with its values (the id's hash part), renumbered.
+    for (old_id, shear) in before {
+        let hash = old_id.split('-').nth(1).unwrap();
+        let e = app
+            .entries
+            .iter()
+            .find(|e| e.design.id.ends_with(hash))
+            .unwrap();
+        let row = e.row.as_ref().unwrap();
+        assert_eq!(row.design, e.design.id);
+        assert_eq!(row.max_shear_deg, shear);
+    }
 }
 
 #[test]

@@ -21,7 +21,22 @@ impl App {
             && plan.sweep_hash == self.table_plan.sweep_hash
             && plan.base_hash == self.table_plan.base_hash
             && self.run_dir.is_some();
+        // The grid changed (a value added to a range) on the same scene and columns: a design
+        // is its values, so the finished ones keep their rows and only the new ones run, in
+        // the same folder (the store renumbers the kept rows' files).
+        let regrid = !resume
+            && !self.running()
+            && plan.base_hash == self.table_plan.base_hash
+            && plan.columns() == self.table_plan.columns()
+            && self.run_dir.is_some()
+            && self.entries.iter().any(|e| e.row.is_some());
         let dir = if resume {
+            self.run_dir.clone().expect("checked")
+        } else if regrid {
+            let kept = carry_rows(&self.entries, &plan);
+            self.entries = kept;
+            self.fields.clear();
+            self.selected = 0;
             self.run_dir.clone().expect("checked")
         } else {
             self.runs += 1;
@@ -31,7 +46,7 @@ impl App {
             self.session.join(format!("run-{}", self.runs))
         };
         self.status.clear();
-        self.begin_run(plan, dir, resume, None)
+        self.begin_run(plan, dir, resume || regrid, None)
     }
 
     /// The run state of a run that starts now, and the command that starts it.
@@ -104,4 +119,30 @@ impl App {
         Accuracy::of_element_size(self.table_plan.base_scene.mesh.element_size)
             .unwrap_or(self.params.accuracy)
     }
+}
+
+/// The entries of `plan` with the rows of `old` whose design has the same values (the hash
+/// part of its id), renumbered to the new grid.
+fn carry_rows(
+    old: &[super::app::Entry],
+    plan: &crate::study::sweep::Plan,
+) -> Vec<super::app::Entry> {
+    let hash = |id: &str| id.rsplit_once('-').map(|(_, h)| h.to_string());
+    let rows: std::collections::HashMap<String, &crate::study::sweep::Row> = old
+        .iter()
+        .filter_map(|e| Some((hash(&e.design.id)?, e.row.as_ref()?)))
+        .collect();
+    let mut entries = entries_of(plan);
+    for e in &mut entries {
+        if let Some(row) = hash(&e.design.id).and_then(|h| rows.get(&h)) {
+            let mut row = (*row).clone();
+            if row.map.is_some() {
+                row.map = Some(format!("maps/{}.png", e.design.id));
+            }
+            row.design = e.design.id.clone();
+            row.index = e.design.index;
+            e.row = Some(row);
+        }
+    }
+    entries
 }

@@ -147,6 +147,9 @@ pub struct ReadReport {
     /// Rows that disagree with their field file (a figure or the verdict edited by hand):
     /// run again.
     pub edited: usize,
+    /// Rows of designs whose values are in the grid under another number (the grid grew or
+    /// shrank): kept, their files renamed to the new id.
+    pub renumbered: usize,
 }
 
 impl ReadReport {
@@ -174,10 +177,18 @@ impl ReadReport {
                 self.edited
             ));
         }
-        if parts.is_empty() {
-            format!("kept {} rows", self.kept)
+        let kept = if self.renumbered > 0 {
+            format!(
+                "kept {} rows ({} renumbered: same values, the grid changed around them)",
+                self.kept, self.renumbered
+            )
         } else {
-            format!("kept {} rows, dropped {}", self.kept, parts.join(", "))
+            format!("kept {} rows", self.kept)
+        };
+        if parts.is_empty() {
+            kept
+        } else {
+            format!("{kept}, dropped {}", parts.join(", "))
         }
     }
 }
@@ -216,12 +227,18 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
     let columns = plan.columns();
     let designs = plan.designs();
     let grid: HashMap<&str, &Design> = designs.iter().map(|d| (d.id.as_str(), d)).collect();
+    // A design is its values: the id's hash part finds it when its number changed.
+    let by_values: HashMap<&str, &Design> = designs
+        .iter()
+        .filter_map(|d| d.id.rsplit_once('-').map(|(_, h)| (h, d)))
+        .collect();
     let mut seen = HashSet::new();
     let mut rows = Vec::new();
     for record in reader.records() {
         let row = record
             .ok()
             .filter(|f| f.len() == header_fields.len())
+            .map(|f| renumbered(dir, &header, f, &grid, &by_values, &mut report))
             .and_then(|f| Row::from_csv(&header, &f, plan, &columns, &grid));
         let Some(row) = row else {
             report.foreign += 1;
@@ -239,6 +256,53 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
     }
     report.kept = rows.len();
     Ok((rows, report))
+}
+
+/// The record of a design whose values are in the grid under another id (its number moved
+/// when values were added to or removed from a range): the id and map path changed to the
+/// new id, and its field and map files renamed. Any other record unchanged.
+fn renumbered(
+    dir: &Path,
+    header: &HashMap<&str, usize>,
+    record: csv::StringRecord,
+    grid: &HashMap<&str, &Design>,
+    by_values: &HashMap<&str, &Design>,
+    report: &mut ReadReport,
+) -> csv::StringRecord {
+    let Some(&at) = header.get("design") else {
+        return record;
+    };
+    let old = record.get(at).unwrap_or_default().to_string();
+    if grid.contains_key(old.as_str()) {
+        return record;
+    }
+    let Some(design) = old.rsplit_once('-').and_then(|(_, h)| by_values.get(h)) else {
+        return record;
+    };
+    let new = design.id.as_str();
+    let moved_field = StoredField::read(dir, &old).ok().is_some_and(|mut field| {
+        field.design = new.to_string();
+        field.write(dir).is_ok() && fs::remove_file(StoredField::path(dir, &old)).is_ok()
+    });
+    let (old_map, new_map) = (format!("maps/{old}.png"), format!("maps/{new}.png"));
+    if dir.join(&old_map).exists() {
+        let _ = fs::rename(dir.join(&old_map), dir.join(&new_map));
+    }
+    if moved_field {
+        report.renumbered += 1;
+    }
+    record
+        .iter()
+        .map(|f| {
+            if f == old {
+                new.to_string()
+            } else if f == old_map {
+                new_map.clone()
+            } else {
+                f.to_string()
+            }
+        })
+        .collect()
 }
 
 /// Refuses a header that is not the one this sweep (or the folder's own, from its
