@@ -374,7 +374,7 @@ impl App {
                 self.to_run = to_run;
                 self.done = 0;
                 if kept > 0 {
-                    self.status = format!("{kept} finished designs kept from the stopped run");
+                    self.status = format!("{kept} finished designs kept: only the others run");
                 }
             }
             Message::Row(row) => {
