@@ -38,6 +38,15 @@ fn empty() {
     let s = screen(&app, 80, 24);
     assert!(s.contains("8 designs"), "{s}");
     assert!(s.contains("ready: r runs 8 designs"), "{s}");
+    // The paper's designs (Figure 11): 5/6/5 is design 0, 10/15/10 design 7 of this grid.
+    let starred: Vec<&str> = s
+        .lines()
+        .filter(|l| l.contains('★'))
+        .map(|l| l.trim_start_matches('"'))
+        .collect();
+    assert_eq!(starred.len(), 3, "the title and two rows: {s}");
+    assert!(starred[1].starts_with("│0★  5    6    5 "), "{s}");
+    assert!(starred[2].starts_with("│7★  10   15   10 "), "{s}");
     for label in [
         "r ", "rp", "rm", "friction", "holder", "locking", "accuracy",
     ] {
@@ -71,7 +80,10 @@ fn finished_with_verdicts_coloured_against_the_limits() {
     // under it; 58.0° + 1.8° < 60° is the only feasible design here.
     let line_of = |index: usize| {
         s.lines()
-            .find(|l| l.starts_with(&format!("\"│{index}  ")))
+            .find(|l| {
+                let rest = l.strip_prefix(&format!("\"│{index}")).unwrap_or("x");
+                rest.starts_with("  ") || rest.starts_with("★ ")
+            })
             .unwrap_or_else(|| panic!("design {index} in {s}"))
             .to_string()
     };

@@ -308,12 +308,18 @@ fn render_table(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
         .map(|&i| table_row(app, &app.entries[i], st))
         .collect();
     let focused = app.focus == Focus::Results;
+    let paper = app.entries.iter().any(is_paper_design);
     let title = format!(
-        " Results: {} of {} designs{} ",
+        " Results: {} of {} designs{}{} ",
         visible.len(),
         app.entries.len(),
         if app.feasible_only {
             ", feasible only"
+        } else {
+            ""
+        },
+        if paper {
+            " · ★ the paper's designs"
         } else {
             ""
         }
@@ -390,6 +396,23 @@ fn axis_hint(key: &str) -> &'static str {
     }
 }
 
+/// One of the paper's two box designs (Figure 11): r/rp/rm = 5/6/5 (tight) or 10/15/10 mm
+/// (open).
+fn is_paper_design(e: &Entry) -> bool {
+    let value = |name: &str| {
+        e.params
+            .iter()
+            .find(|(n, _)| n == name)
+            .and_then(|(_, v)| crate::study::sweep::as_number(v))
+    };
+    match (value("r"), value("rp"), value("rm")) {
+        (Some(r), Some(rp), Some(rm)) => {
+            [[5.0, 6.0, 5.0], [10.0, 15.0, 10.0]].contains(&[r, rp, rm])
+        }
+        _ => false,
+    }
+}
+
 /// The width of a parameter's column, characters.
 fn param_width(name: &str) -> usize {
     match name {
@@ -428,7 +451,8 @@ fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
     let err = r
         .and_then(|r| r.max_shear_err_deg)
         .unwrap_or(app.params.accuracy.error().max_shear_deg);
-    let mut cells = vec![Cell::from(format!("{}", e.design.index))];
+    let mark = if is_paper_design(e) { "★" } else { "" };
+    let mut cells = vec![Cell::from(format!("{}{mark}", e.design.index))];
     cells.extend(
         e.params
             .iter()
