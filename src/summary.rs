@@ -94,8 +94,7 @@ impl RunSummary {
     pub fn new(name: &str, scene: &Scene, result: &DrawingResult, wall_s: f64) -> RunSummary {
         let locking = scene.fabric.locking_angle_deg;
         let breaking = scene.fabric.break_tension_n;
-        let (e, max_shear_deg) = result.max_shear();
-        let max_tension_n = result.max_tension_n();
+        let [(e, max_shear_deg), (_, max_tension_n)] = result.cell_peaks();
         let unsound: Vec<String> = if result.converged {
             result.unsound().iter().map(|u| u.to_string()).collect()
         } else {

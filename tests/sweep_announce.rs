@@ -4,18 +4,31 @@
 mod common;
 use common::{text, wovenform_in as wovenform};
 
+/// A sweep file `name` in `dir` over the open-box preset: `scene` under [scene] (empty: none),
+/// `sweep` under [sweep].
+fn sweep_file(dir: &std::path::Path, name: &str, scene: &str, sweep: &str) -> std::path::PathBuf {
+    let base = common::preset("paper-box-open.toml");
+    let path = dir.join(name);
+    let scene = if scene.is_empty() {
+        String::new()
+    } else {
+        format!("[scene]\n{scene}\n")
+    };
+    std::fs::write(
+        &path,
+        format!("base = {base:?}\n\n{scene}\n[sweep]\n{sweep}\n"),
+    )
+    .unwrap();
+    path
+}
+
+/// The quick scene: 5 mm elements, 4 mm of stroke, a 140 mm blank.
+const QUICK: &str = "mesh.element_size = 5.0\nprocess.stroke = 4.0\nblank.size = 140.0";
+
 #[test]
 fn a_sweep_says_how_many_designs_and_how_long_and_starts_no_idle_workers() {
     let dir = tempfile::tempdir().unwrap();
-    let base = common::preset("paper-box-open.toml");
-    let file = dir.path().join("s.toml");
-    std::fs::write(
-        &file,
-        format!(
-            "base = {base:?}\n\n[scene]\nmesh.element_size = 5.0\nprocess.stroke = 4.0\nblank.size = 140.0\n\n[sweep]\nr = [5.0, 10.0]\n"
-        ),
-    )
-    .unwrap();
+    let file = sweep_file(dir.path(), "s.toml", QUICK, "r = [5.0, 10.0]");
     let o = wovenform(
         dir.path(),
         &[
@@ -32,12 +45,7 @@ fn a_sweep_says_how_many_designs_and_how_long_and_starts_no_idle_workers() {
     assert!(err.contains("--jobs 1000: 2 designs"), "{err}");
     assert!(err.contains("2 designs to run, roughly"), "{err}");
     // One design: no plural.
-    let one = dir.path().join("one.toml");
-    std::fs::write(
-        &one,
-        format!("base = {base:?}\n\n[scene]\nmesh.element_size = 5.0\nprocess.stroke = 4.0\nblank.size = 140.0\n\n[sweep]\nr = [5.0]\n"),
-    )
-    .unwrap();
+    let one = sweep_file(dir.path(), "one.toml", QUICK, "r = [5.0]");
     let o = wovenform(dir.path(), &["sweep", one.to_str().unwrap(), "--out", "p"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     assert!(
@@ -51,12 +59,7 @@ fn a_sweep_says_how_many_designs_and_how_long_and_starts_no_idle_workers() {
         text(&o.stdout)
     );
     // A value given twice is refused before anything runs.
-    let twice = dir.path().join("twice.toml");
-    std::fs::write(
-        &twice,
-        format!("base = {base:?}\n\n[sweep]\nr = [5.0, 5]\n"),
-    )
-    .unwrap();
+    let twice = sweep_file(dir.path(), "twice.toml", "", "r = [5.0, 5]");
     let o = wovenform(
         dir.path(),
         &["sweep", twice.to_str().unwrap(), "--out", "q"],
@@ -72,13 +75,12 @@ fn a_sweep_says_how_many_designs_and_how_long_and_starts_no_idle_workers() {
 #[test]
 fn a_resume_on_another_scene_names_what_changed() {
     let dir = tempfile::tempdir().unwrap();
-    let base = common::preset("paper-box-open.toml");
-    let file = dir.path().join("s.toml");
-    std::fs::write(
-        &file,
-        format!("base = {base:?}\n\n[scene]\nprocess.stroke = 4.0\nblank.size = 140.0\n\n[sweep]\nr = [5.0]\n"),
-    )
-    .unwrap();
+    let file = sweep_file(
+        dir.path(),
+        "s.toml",
+        "process.stroke = 4.0\nblank.size = 140.0",
+        "r = [5.0]",
+    );
     let f = file.to_str().unwrap();
     let o = wovenform(
         dir.path(),
@@ -100,15 +102,13 @@ fn a_grown_grid_resumes_with_the_rows_of_the_same_values() {
     // A design is its values: adding r = 7.5 renumbers r = 10, whose row (and map and field)
     // is kept; only the new designs run.
     let dir = tempfile::tempdir().unwrap();
-    let base = common::preset("paper-box-open.toml");
     let write = |name: &str, r: &str| {
-        let path = dir.path().join(name);
-        std::fs::write(
-            &path,
-            format!("base = {base:?}\n\n[scene]\nmesh.element_size = 5.0\nprocess.stroke = 4.0\nblank.size = 140.0\n\n[sweep]\nr = {r}\nfriction = [0.1, 0.2]\n"),
+        sweep_file(
+            dir.path(),
+            name,
+            QUICK,
+            &format!("r = {r}\nfriction = [0.1, 0.2]"),
         )
-        .unwrap();
-        path
     };
     let small = write("small.toml", "[5.0, 10.0]");
     let grown = write("grown.toml", "[5.0, 7.5, 10.0]");

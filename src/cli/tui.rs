@@ -42,7 +42,7 @@ pub fn exec(args: TuiArgs) -> Result<(), CliError> {
     if pruned > 0 {
         eprintln!(
             "wovenform explorer: removed {pruned} session folder{} older than 7 days from {}",
-            if pruned == 1 { "" } else { "s" },
+            wovenform::report::plural(pruned),
             std::env::temp_dir().display()
         );
     }

@@ -227,17 +227,26 @@ impl FieldMap {
         if let Some(top) = self.scale_max.filter(|t| t.is_finite() && *t > 0.0) {
             return top;
         }
-        let max = self.values.iter().cloned().fold(0.0, f64::max);
-        if self.limit_off_scale() {
+        let max = self.largest();
+        if self.off_scale(max) {
             return 1.05 * max;
         }
         (1.1 * self.limit).max(max)
     }
 
-    /// The field stays under its limit and is drawn on its own range (see `fit_to_field`).
-    fn limit_off_scale(&self) -> bool {
-        let max = self.values.iter().cloned().fold(0.0, f64::max);
+    /// The largest value of the field.
+    fn largest(&self) -> f64 {
+        self.values.iter().cloned().fold(0.0, f64::max)
+    }
+
+    /// The field, whose largest value is `max`, stays under its limit and is drawn on its own
+    /// range (see `fit_to_field`).
+    fn off_scale(&self, max: f64) -> bool {
         self.fit_to_field && max > 0.0 && max < self.limit
+    }
+
+    fn limit_off_scale(&self) -> bool {
+        self.off_scale(self.largest())
     }
 
     /// The value drawn darkest: the limit, or the top of the field's own range.
@@ -355,9 +364,11 @@ impl FieldMap {
             .map_err(|e| err(&e))?;
         let rgb = |c: (u8, u8, u8)| RGBColor(c.0, c.1, c.2);
         let poly = |q: &PlanQuad| -> Vec<(f64, f64)> { q.iter().map(|p| (p[0], p[1])).collect() };
+        // Once per map, not once per quad: it scans every value.
+        let span = self.colour_span();
         chart
             .draw_series(self.quads.iter().zip(&self.values).map(|(q, &v)| {
-                let c = colour_on(v, self.limit, self.colour_span());
+                let c = colour_on(v, self.limit, span);
                 Polygon::new(poly(q), rgb(c).filled())
             }))
             .map_err(|e| err(&e))?;
@@ -454,6 +465,7 @@ impl FieldMap {
             .map_err(|e| err(&e))?;
         const BANDS: usize = 300;
         let rgb = |c: (u8, u8, u8)| RGBColor(c.0, c.1, c.2);
+        let span = self.colour_span();
         chart
             .draw_series((0..BANDS).map(|i| {
                 let (a, b) = (
@@ -461,7 +473,7 @@ impl FieldMap {
                     top * (i + 1) as f64 / BANDS as f64,
                 );
                 let v = 0.5 * (a + b);
-                let c = colour_on(v, self.limit, self.colour_span());
+                let c = colour_on(v, self.limit, span);
                 Rectangle::new([(0.0, a), (1.0, b)], rgb(c).filled())
             }))
             .map_err(|e| err(&e))?;

@@ -127,7 +127,8 @@ fn carry_rows(
     old: &[super::app::Entry],
     plan: &crate::study::sweep::Plan,
 ) -> Vec<super::app::Entry> {
-    let hash = |id: &str| id.rsplit_once('-').map(|(_, h)| h.to_string());
+    use crate::study::sweep::Design;
+    let hash = |id: &str| Design::values_hash(id).map(str::to_string);
     let rows: std::collections::HashMap<String, &crate::study::sweep::Row> = old
         .iter()
         .filter_map(|e| Some((hash(&e.design.id)?, e.row.as_ref()?)))

@@ -128,31 +128,16 @@ pub(super) fn failed_early(
     failure: DrawingFailure,
     left_out: Vec<LeftOut>,
 ) -> DrawingResult {
-    let ne = mesh.quads.len();
-    let nn = mesh.nodes.len();
-    let dofs = 3 * nn - super::symmetry_planes(&mesh, quarter).dofs.len();
+    let dofs = 3 * mesh.nodes.len() - super::symmetry_planes(&mesh, quarter).dofs.len();
     DrawingResult {
-        converged: false,
         failure: Some(failure),
-        quarter,
-        element_size_mm: problem.element_size,
-        cell_mm: problem.fabric.cell_mm(),
-        positions: mesh.nodes.clone(),
-        shear_deg: vec![0.0; ne],
-        t11_n: vec![0.0; ne],
-        t22_n: vec![0.0; ne],
-        tension_max_n: vec![0.0; ne],
-        contact: vec![0; nn],
-        stroke_reached_mm: 0.0,
-        punch_force_n: 0.0,
-        force_history: Vec::new(),
-        penetration_mm: 0.0,
-        draw_in_mm: 0.0,
         dofs,
-        stats: SolveStats::default(),
-        punch_work_nmm: 0.0,
-        unbalanced_work_share: 0.0,
         left_out,
-        mesh,
+        ..DrawingResult::at_rest(
+            mesh,
+            quarter,
+            problem.element_size,
+            problem.fabric.cell_mm(),
+        )
     }
 }

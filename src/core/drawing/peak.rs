@@ -90,33 +90,11 @@ fn initial_area(x: &[[f64; 3]; 4]) -> f64 {
 mod tests {
     use crate::core::drawing::result::DrawingResult;
     use crate::core::mesh::Mesh;
-    use crate::core::solver::SolveStats;
 
     fn result(mesh: Mesh, quarter: bool) -> DrawingResult {
-        let (ne, nn) = (mesh.quads.len(), mesh.nodes.len());
         DrawingResult {
             converged: true,
-            failure: None,
-            quarter,
-            element_size_mm: 1.0,
-            cell_mm: 4.76,
-            positions: mesh.nodes.clone(),
-            shear_deg: vec![0.0; ne],
-            t11_n: vec![0.0; ne],
-            t22_n: vec![0.0; ne],
-            tension_max_n: vec![0.0; ne],
-            contact: vec![0; nn],
-            stroke_reached_mm: 0.0,
-            punch_force_n: 0.0,
-            force_history: Vec::new(),
-            penetration_mm: 0.0,
-            draw_in_mm: 0.0,
-            dofs: 0,
-            stats: SolveStats::default(),
-            punch_work_nmm: 0.0,
-            unbalanced_work_share: 0.0,
-            left_out: Vec::new(),
-            mesh,
+            ..DrawingResult::at_rest(mesh, quarter, 1.0, 4.76)
         }
     }
 

@@ -91,12 +91,48 @@ pub struct DrawingResult {
 }
 
 impl DrawingResult {
+    /// The blank as meshed, before any stroke: no field, no force, not converged.
+    pub fn at_rest(mesh: Mesh, quarter: bool, element_size_mm: f64, cell_mm: f64) -> Self {
+        let (ne, nn) = (mesh.quads.len(), mesh.nodes.len());
+        DrawingResult {
+            converged: false,
+            failure: None,
+            quarter,
+            element_size_mm,
+            cell_mm,
+            positions: mesh.nodes.clone(),
+            shear_deg: vec![0.0; ne],
+            t11_n: vec![0.0; ne],
+            t22_n: vec![0.0; ne],
+            tension_max_n: vec![0.0; ne],
+            contact: vec![0; nn],
+            stroke_reached_mm: 0.0,
+            punch_force_n: 0.0,
+            force_history: Vec::new(),
+            penetration_mm: 0.0,
+            draw_in_mm: 0.0,
+            dofs: 0,
+            stats: SolveStats::default(),
+            punch_work_nmm: 0.0,
+            unbalanced_work_share: 0.0,
+            left_out: Vec::new(),
+            mesh,
+        }
+    }
+
     /// The peak shear the verdict compares with the locking angle: the largest mean |shear|
     /// (degrees) over a disc of one woven cell ([`DrawingResult::cell_mm`]) in the undeformed
     /// blank, and the element at the disc's centre (see `peak.rs`). Unlike the largest element
     /// value it does not hang on how finely a corner happens to be meshed.
     pub fn max_shear(&self) -> (usize, f64) {
         self.neighbourhood_peak(&self.shear_deg, self.cell_mm)
+    }
+
+    /// Both peaks over one woven cell with one neighbour search: `[max_shear, max tension]`,
+    /// each the element at the disc's centre and the peak.
+    pub fn cell_peaks(&self) -> [(usize, f64); 2] {
+        let p = self.neighbourhood_peaks(&[&self.shear_deg, &self.tension_max_n], self.cell_mm);
+        [p[0], p[1]]
     }
 
     /// The element with the largest absolute shear, and that shear (degrees): the peak at the

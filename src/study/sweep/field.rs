@@ -64,11 +64,9 @@ impl StoredField {
         tooling: &Tooling,
     ) -> StoredField {
         let r3 = |v: f64| round_to(v, 3);
-        let (e, _) = result.max_shear();
-        let max_at = (!result.shear_deg.is_empty()).then(|| {
-            let c = result.element_centre(e);
-            [c[0], c[1]]
-        });
+        // Where the summary found the peak (no second neighbour search).
+        let [x, y, _] = summary.max_shear_at;
+        let max_at = (!result.shear_deg.is_empty()).then_some([x, y]);
         StoredField {
             design: design.id.clone(),
             verdict: summary.verdict.clone(),

@@ -15,6 +15,14 @@ pub struct Design {
     pub values: Vec<toml::Value>,
 }
 
+impl Design {
+    /// The hash part of a design id (`3fa1c2` of `d007-3fa1c2`): the design's values, which
+    /// stay when its number moves because the grid grew.
+    pub fn values_hash(id: &str) -> Option<&str> {
+        id.rsplit_once('-').map(|(_, h)| h)
+    }
+}
+
 /// A parameter column of the results: a swept axis, or a short name held at the base value.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Column {

@@ -230,7 +230,7 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
     // A design is its values: the id's hash part finds it when its number changed.
     let by_values: HashMap<&str, &Design> = designs
         .iter()
-        .filter_map(|d| d.id.rsplit_once('-').map(|(_, h)| (h, d)))
+        .filter_map(|d| Some((Design::values_hash(&d.id)?, d)))
         .collect();
     let mut seen = HashSet::new();
     let mut rows = Vec::new();
@@ -276,7 +276,7 @@ fn renumbered(
     if grid.contains_key(old.as_str()) {
         return record;
     }
-    let Some(design) = old.rsplit_once('-').and_then(|(_, h)| by_values.get(h)) else {
+    let Some(design) = Design::values_hash(&old).and_then(|h| by_values.get(h)) else {
         return record;
     };
     let new = design.id.as_str();
