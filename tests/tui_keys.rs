@@ -240,7 +240,7 @@ fn detail_help_export_and_quit() {
     assert_eq!(
         app.on_key(key(KeyCode::Enter)),
         Command::Export {
-            from: PathBuf::from("/session/run-1"),
+            from: vec![PathBuf::from("/session/run-1")],
             to: PathBuf::from("paper-box-explorer-export-a"),
         }
     );
@@ -301,7 +301,7 @@ fn a_field_is_read_when_its_design_is_selected_and_drawing_reads_no_file() {
     std::fs::remove_dir_all(run.join("fields")).expect("the fields removed");
     let s = screen(&app, 160, 48);
     assert!(s.contains("design 7 · r 10, rp 15, rm 10 mm"), "{s}");
-    assert!(s.contains("shear, max 58.0° at (30, 30) mm"), "{s}");
+    assert!(s.contains("shear, cell peak 58.0° at (30, 30) mm"), "{s}");
     assert!(!s.contains("no map"), "{s}");
 }
 

@@ -45,10 +45,19 @@ fn empty() {
         .map(|l| l.trim_start_matches('"'))
         .collect();
     assert_eq!(starred.len(), 3, "the title and two rows: {s}");
-    assert!(starred[1].starts_with("│0★  5    6    5 "), "{s}");
-    assert!(starred[2].starts_with("│7★  10   15   10 "), "{s}");
+    assert!(starred[1].starts_with("│0★  5     6      5 "), "{s}");
+    assert!(starred[2].starts_with("│7★  10    15     10 "), "{s}");
+    // The radii in mm in the header; the parameters named as in the scene's keys.
+    assert!(s.contains("r mm  rp mm  rm mm"), "{s}");
     for label in [
-        "r ", "rp", "rm", "friction", "holder", "locking", "accuracy",
+        "r ",
+        "rp",
+        "rm",
+        "friction",
+        "holder_pressure",
+        "locking",
+        "break",
+        "accuracy",
     ] {
         assert!(s.contains(label), "{label}: {s}");
     }

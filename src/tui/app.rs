@@ -68,9 +68,17 @@ pub enum Command {
         only: Option<HashSet<String>>,
     },
     Cancel,
+    /// Export the run folders the table's rows come from: the first into `to`, each other
+    /// (designs re-run finer) into `to/<its name>`.
     Export {
-        from: PathBuf,
+        from: Vec<PathBuf>,
         to: PathBuf,
+    },
+    /// Solve design `design` again and write its maps, VTU and summary into `dir`.
+    WriteFiles {
+        design: String,
+        scene: Box<crate::scene::Scene>,
+        dir: PathBuf,
     },
 }
 
@@ -83,6 +91,10 @@ pub struct Entry {
     /// The design's own limits: the locking angle (°) and the break tension (N), which a
     /// sweep may vary.
     pub limits: [f64; 2],
+    /// The run folder its row and field are in (a design re-run finer has its own), and the
+    /// accuracy level its row was run at.
+    pub dir: Option<PathBuf>,
+    pub accuracy: Option<crate::accuracy::Accuracy>,
 }
 
 /// How long a status message stays in the Run panel, s.
@@ -128,14 +140,23 @@ pub struct App {
     /// Where the runs of this session are written.
     pub session: PathBuf,
     pub runs: usize,
-    /// The folder of the table's rows.
+    /// The folder of the latest run, and the hash of the base scene it was run on (the
+    /// table's may differ since: limits judged again).
     pub run_dir: Option<PathBuf>,
+    pub run_base_hash: String,
+    /// The folder of the run in progress (or the last), and its accuracy level.
+    pub active_dir: Option<PathBuf>,
+    pub active_accuracy: Option<crate::accuracy::Accuracy>,
     /// Shear fields of finished designs, read from the run folder when first selected.
     pub fields: HashMap<String, Result<StoredField, String>>,
     /// False where the terminal has no colours: symbols and shades instead.
     pub colour: bool,
     /// Where the next export goes by default.
     pub export_dir: PathBuf,
+    /// The detail shows the yarn tension map instead of the shear map.
+    pub detail_tension: bool,
+    /// Each design's own files (maps, VTU), by id: written, or being written (empty).
+    pub design_files: HashMap<String, Result<Vec<PathBuf>, String>>,
 }
 
 pub(super) fn entries_of(plan: &Plan) -> Vec<Entry> {
@@ -164,6 +185,8 @@ pub(super) fn entries_of(plan: &Plan) -> Vec<Entry> {
                 design: d,
                 row: None,
                 limits,
+                dir: None,
+                accuracy: None,
             }
         })
         .collect()
@@ -213,9 +236,14 @@ impl App {
             session,
             runs: 0,
             run_dir: None,
+            run_base_hash: String::new(),
+            active_dir: None,
+            active_accuracy: None,
             fields: HashMap::new(),
             colour,
             export_dir,
+            detail_tension: false,
+            design_files: HashMap::new(),
         }
     }
 
@@ -329,20 +357,39 @@ impl App {
             .map(|r| r.design.as_str())
     }
 
-    /// Reads the selected design's shear field from the run folder, unless it was read
-    /// before: after every key and report, so that the selection, a design finishing and the
-    /// detail opening find it there.
+    /// Reads the selected design's field from its run folder, unless it was read before:
+    /// after every key and report, so that the selection, a design finishing and the detail
+    /// opening find it there. A read that failed is tried again (a resumed run renames the
+    /// files of renumbered designs when its workers start).
     pub(super) fn load_selected_field(&mut self) {
         let Some(id) = self.selected_map_id().map(str::to_string) else {
             return;
         };
-        if !self.fields.contains_key(&id) {
-            let read = match &self.run_dir {
-                Some(dir) => StoredField::read(dir, &id).map_err(|e| e.to_string()),
-                None => Err("no run folder".into()),
-            };
-            self.fields.insert(id, read);
+        if matches!(self.fields.get(&id), Some(Ok(_))) {
+            return;
         }
+        let dir = self.selected_entry().and_then(|e| e.dir.clone());
+        let read = match dir.as_ref().or(self.run_dir.as_ref()) {
+            Some(dir) => StoredField::read(dir, &id).map_err(|e| e.to_string()),
+            None => Err("no run folder".into()),
+        };
+        self.fields.insert(id, read);
+    }
+
+    /// The run folders the table's rows come from, the one with the most rows first.
+    pub fn row_dirs(&self) -> Vec<PathBuf> {
+        let mut count: Vec<(PathBuf, usize)> = Vec::new();
+        for e in self.entries.iter().filter(|e| e.row.is_some()) {
+            let Some(d) = e.dir.clone().or_else(|| self.run_dir.clone()) else {
+                continue;
+            };
+            match count.iter_mut().find(|(p, _)| *p == d) {
+                Some((_, n)) => *n += 1,
+                None => count.push((d, 1)),
+            }
+        }
+        count.sort_by_key(|c| std::cmp::Reverse(c.1));
+        count.into_iter().map(|(d, _)| d).collect()
     }
 
     /// Counts over the table: (with a row, feasible).
@@ -382,6 +429,10 @@ impl App {
                     if row.verdict != Verdict::Invalid {
                         self.done += 1;
                     }
+                    // A design run again (finer) has a new field: read it afresh.
+                    self.fields.remove(&row.design);
+                    e.dir = self.active_dir.clone();
+                    e.accuracy = self.active_accuracy;
                     e.row = Some(*row);
                 }
             }
@@ -396,6 +447,12 @@ impl App {
                     (None, false) => RunState::Finished { wall_s },
                 };
             }
+            Message::Written { design, result } => {
+                if let Err(e) = &result {
+                    self.status = format!("writing the files of {design} failed: {e}");
+                }
+                self.design_files.insert(design, result);
+            }
             Message::Exported(result) => {
                 self.status = match result {
                     Ok(files) => format!(
@@ -405,8 +462,11 @@ impl App {
                             .display(),
                         files
                             .iter()
-                            .filter_map(|f| f.file_name())
-                            .map(|f| f.to_string_lossy().into_owned())
+                            .map(|f| f
+                                .strip_prefix(&self.export_dir)
+                                .unwrap_or(f)
+                                .display()
+                                .to_string())
                             .collect::<Vec<_>>()
                             .join(", ")
                     ),
@@ -426,30 +486,45 @@ impl App {
             self.entries = entries_of(&self.table_plan);
             self.selected = 0;
             self.sort.column = self.sort.column.min(self.sort_columns() - 1);
-        } else if self.only_the_limit_changed() {
-            // The locking angle changes verdicts, not figures: judge the rows again, run nothing.
-            let locking = self.params.plan.base_scene.fabric.locking_angle_deg;
+        } else if self.only_the_limits_changed() {
+            // The limits change verdicts, not figures: judge the rows again, run nothing.
+            let fabric = &self.params.plan.base_scene.fabric;
+            let limits = [fabric.locking_angle_deg, fabric.break_tension_n];
+            let old = &self.table_plan.base_scene.fabric;
+            let words = [
+                (old.locking_angle_deg != limits[0])
+                    .then(|| format!("the locking angle of {}°", limits[0])),
+                (old.break_tension_n != limits[1])
+                    .then(|| format!("the break tension of {} N", limits[1])),
+            ];
             for e in &mut self.entries {
-                e.limits[0] = locking;
+                e.limits = limits;
                 if let Some(row) = e.row.as_mut() {
                     rejudge(row, e.limits);
                 }
             }
             self.table_plan = self.params.plan.clone();
-            self.status = format!("verdicts judged again against the locking angle of {locking}°");
+            let against: Vec<String> = words.into_iter().flatten().collect();
+            self.status = format!("verdicts judged again against {}", against.join(" and "));
         }
     }
 
-    /// The edited parameters differ from the table's only in the locking angle (not swept).
-    fn only_the_limit_changed(&self) -> bool {
+    /// The edited parameters differ from the table's only in the limits (the locking angle
+    /// and the break tension, neither swept).
+    fn only_the_limits_changed(&self) -> bool {
         let (new, old) = (&self.params.plan, &self.table_plan);
         let swept = |p: &Plan| {
-            p.axes
-                .iter()
-                .any(|a| a.key == "fabric.locking_angle_deg" && a.values.len() > 1)
+            p.axes.iter().any(|a| {
+                a.values.len() > 1
+                    && matches!(
+                        a.key.as_str(),
+                        "fabric.locking_angle_deg" | "fabric.break_tension_n"
+                    )
+            })
         };
         let mut same = old.base_scene.clone();
         same.fabric.locking_angle_deg = new.base_scene.fabric.locking_angle_deg;
+        same.fabric.break_tension_n = new.base_scene.fabric.break_tension_n;
         new.base_scene != old.base_scene
             && same == new.base_scene
             && new.axes == old.axes

@@ -15,21 +15,27 @@ use super::shear_map::{ShearMap, colour, shade};
 use super::view::{Styles, verdict_cell};
 use crate::accuracy::Accuracy;
 
-/// The colour bar: the scale from 0 to `top`, the locking angle marked.
-fn scale_line<'a>(width: u16, locking: f64, top: f64, st: &Styles) -> Vec<Line<'a>> {
+/// The colour bar: the scale from 0 to `top` in `unit`, the limit marked when it lies on it.
+fn scale_line<'a>(
+    width: u16,
+    (limit, limit_name): (f64, &str),
+    top: f64,
+    unit: &str,
+    st: &Styles,
+) -> Vec<Line<'a>> {
     let w = width.max(10) as usize;
     let mut bar = Vec::new();
-    let mark = ((locking / top) * (w - 1) as f64).round() as usize;
+    // The colours run to the limit, or to the top when the limit is off the scale.
+    let shown = limit.min(top);
     for i in 0..w {
         let v = top * i as f64 / (w - 1) as f64;
         if st.colour {
-            bar.push(Span::styled("█", Style::default().fg(colour(v, locking))));
+            bar.push(Span::styled("█", Style::default().fg(colour(v, shown))));
         } else {
-            bar.push(Span::raw(shade(v, locking).to_string()));
+            bar.push(Span::raw(shade(v, shown).to_string()));
         }
     }
     let mut marks = vec![' '; w];
-    marks[mark.min(w - 1)] = '▲';
     let mut labels: Vec<char> = vec![' '; w];
     let put = |labels: &mut Vec<char>, at: usize, text: &str| {
         let at = at.min(w.saturating_sub(text.chars().count()));
@@ -39,16 +45,23 @@ fn scale_line<'a>(width: u16, locking: f64, top: f64, st: &Styles) -> Vec<Line<'
             }
         }
     };
-    put(&mut labels, 0, "0°");
-    let lock = format!("{locking:.0}° locking");
-    put(
-        &mut labels,
-        mark.saturating_sub(lock.chars().count() / 2),
-        &lock,
-    );
-    let topl = format!("{top:.0}°");
-    if mark + lock.chars().count() / 2 + 2 + topl.len() < w {
-        put(&mut labels, w - topl.len(), &topl);
+    put(&mut labels, 0, &format!("0{unit}"));
+    let topl = format!("{top:.0}{unit}");
+    if limit <= top {
+        let mark = ((limit / top) * (w - 1) as f64).round() as usize;
+        marks[mark.min(w - 1)] = '▲';
+        let text = format!("{limit:.0}{unit} {limit_name}");
+        put(
+            &mut labels,
+            mark.saturating_sub(text.chars().count() / 2),
+            &text,
+        );
+        if mark + text.chars().count() / 2 + 2 + topl.len() < w {
+            put(&mut labels, w - topl.len(), &topl);
+        }
+    } else {
+        let text = format!("{topl} · {limit_name} {limit:.0}{unit} is off the scale");
+        put(&mut labels, w.saturating_sub(text.chars().count()), &text);
     }
     vec![
         Line::from(bar),
@@ -120,8 +133,10 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
         return lines;
     };
     let [locking, breaking] = entry.limits;
-    let accuracy = Accuracy::of_element_size(app.table_plan.base_scene.mesh.element_size)
-        .unwrap_or(app.params.accuracy);
+    let accuracy = entry.accuracy.unwrap_or_else(|| {
+        Accuracy::of_element_size(app.table_plan.base_scene.mesh.element_size)
+            .unwrap_or(app.params.accuracy)
+    });
     let level = accuracy.error();
     let shear_err = r.max_shear_err_deg.unwrap_or(level.max_shear_deg);
     let tension_err = r.max_tension_err_pct.unwrap_or(level.max_tension_pct);
@@ -158,36 +173,97 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
             f / 1000.0
         )));
     }
+    if let Some(Ok(f)) = app.selected_field() {
+        lines.push(Line::raw(format!(
+            "draw-in {:.1} mm · {:.1} % of the blank over {}°",
+            f.draw_in_mm, f.area_over_limit_pct, f.locking_angle_deg
+        )));
+    }
     if let Some(w) = r.wall_s {
         lines.push(Line::raw(format!(
             "run time {w:.1} s at {accuracy} ({} mm elements)",
             accuracy.element_size_mm()
         )));
     }
+    lines.push(files_line(app, entry, st));
     lines
 }
 
-/// The design's shear map, its caption and the colour bar.
+/// Where the design's own files are, or how to get them.
+fn files_line<'a>(app: &App, entry: &Entry, st: &Styles) -> Line<'a> {
+    let about = entry
+        .row
+        .as_ref()
+        .and_then(|r| r.wall_s)
+        .map(|w| format!(", a run of about {w:.0} s"))
+        .unwrap_or_default();
+    match app.design_files.get(&entry.design.id) {
+        Some(Ok(files)) if files.is_empty() => {
+            Line::styled(format!("writing its PNG maps and VTU{about}…"), st.dim())
+        }
+        Some(Ok(files)) => {
+            let dir = files
+                .first()
+                .and_then(|f| f.parent())
+                .map(|d| d.display().to_string())
+                .unwrap_or_default();
+            let names: Vec<String> = files
+                .iter()
+                .filter_map(|f| f.file_name())
+                .map(|f| f.to_string_lossy().into_owned())
+                .collect();
+            Line::raw(format!("files in {dir}: {}", names.join(", ")))
+        }
+        Some(Err(e)) => Line::styled(format!("files not written: {e}"), st.warn()),
+        None => Line::styled(
+            format!("+ runs it finer · w writes its PNG maps and VTU{about}"),
+            st.dim(),
+        ),
+    }
+}
+
+/// The design's shear (or yarn tension) map, its caption and the colour bar.
 fn render_field(app: &App, field: &StoredField, area: Rect, buf: &mut Buffer, st: &Styles) {
-    let locking = field.locking_angle_deg;
+    let tension = app.detail_tension && !field.tension_n.is_empty();
     let [map, bar] = Layout::vertical([Constraint::Min(2), Constraint::Length(3)]).areas(area);
-    let (quads, values) = crate::report::sweep::full_blank(field);
-    let top = values.iter().copied().fold(1.1 * locking, f64::max);
     let max_at = field
         .max_at
         .map(|p| format!(" at ({:.0}, {:.0}) mm", p[0], p[1]))
         .unwrap_or_default();
-    let caption = format!("shear, max {:.1}°{max_at}", field.max_shear_deg);
+    let (values, limit, top, caption, unit, limit_name);
+    if tension {
+        let (_, v) = crate::report::sweep::full_blank_of(field, &field.tension_n);
+        let largest = v.iter().copied().fold(0.0, f64::max);
+        limit = field.break_tension_n;
+        // Scaled to the field (a blank at a fifth of the break is not pale all over).
+        top = if largest >= limit {
+            1.1 * largest
+        } else {
+            largest.max(1.0)
+        };
+        caption = format!(
+            "yarn tension, cell peak {:.0} N (break {:.0} N)",
+            field.max_tension_n, limit
+        );
+        (values, unit, limit_name) = (v, " N", "break");
+    } else {
+        let (_, v) = crate::report::sweep::full_blank(field);
+        limit = field.locking_angle_deg;
+        top = v.iter().copied().fold(1.1 * limit, f64::max);
+        caption = format!("shear, cell peak {:.1}°{max_at}", field.max_shear_deg);
+        (values, unit, limit_name) = (v, "°", "locking");
+    }
+    let (quads, _) = crate::report::sweep::full_blank(field);
     let [caption_area, map] =
         Layout::vertical([Constraint::Length(1), Constraint::Min(1)]).areas(map);
     Paragraph::new(Line::styled(caption, st.dim())).render(caption_area, buf);
     ShearMap {
         quads: &quads,
         shear_deg: &values,
-        locking_angle_deg: locking,
+        locking_angle_deg: limit.min(top),
         scale_max: top,
         colour: app.colour,
     }
     .render(map, buf);
-    Paragraph::new(scale_line(bar.width, locking, top, st)).render(bar, buf);
+    Paragraph::new(scale_line(bar.width, (limit, limit_name), top, unit, st)).render(bar, buf);
 }

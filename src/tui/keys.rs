@@ -76,9 +76,10 @@ impl App {
                             );
                             return Command::None;
                         }
-                        let Some(from) = self.run_dir.clone() else {
+                        let from = self.row_dirs();
+                        if from.is_empty() {
                             return Command::None;
-                        };
+                        }
                         self.export_dir = to.clone();
                         self.status = format!("exporting to {} …", to.display());
                         return Command::Export { from, to };
@@ -101,6 +102,9 @@ impl App {
                     KeyCode::Up | KeyCode::Char('k') => self.move_selection(-1),
                     KeyCode::Down | KeyCode::Char('j') => self.move_selection(1),
                     KeyCode::Char('?') => self.mode = Mode::Help,
+                    KeyCode::Char('t') => self.detail_tension = !self.detail_tension,
+                    KeyCode::Char('+') => return self.rerun_selected(),
+                    KeyCode::Char('w') => return self.write_selected_files(),
                     _ => self.mode = Mode::Normal,
                 }
                 Command::None
@@ -121,6 +125,11 @@ impl App {
             }
             KeyCode::Char('r') => return self.start(),
             KeyCode::Char('m') => return self.rerun_marginal(),
+            KeyCode::Char('t') => self.detail_tension = !self.detail_tension,
+            KeyCode::Char('+') if self.focus == Focus::Results => return self.rerun_selected(),
+            KeyCode::Char('w') if self.focus == Focus::Results => {
+                return self.write_selected_files();
+            }
             KeyCode::Char('c') | KeyCode::Esc if self.run == RunState::Running => {
                 self.run = RunState::Stopping;
                 self.status =

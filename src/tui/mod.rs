@@ -157,6 +157,9 @@ fn event_loop(
                 stop = Some(worker::start_sweep(*plan, dir, resume, only, tx.clone()));
             }
             Command::Export { from, to } => worker::start_export(from, to, tx.clone()),
+            Command::WriteFiles { design, scene, dir } => {
+                worker::start_design_files(design, *scene, dir, tx.clone())
+            }
         }
     }
 }

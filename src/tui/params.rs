@@ -42,6 +42,8 @@ pub enum Target {
         key: String,
     },
     LockingAngle,
+    /// The yarns' break tension, N.
+    BreakTension,
     Accuracy,
 }
 
@@ -62,6 +64,7 @@ pub struct Parameters {
     pub source: Source,
     pub fields: Vec<Field>,
     pub locking_angle_deg: f64,
+    pub break_tension_n: f64,
     pub accuracy: Accuracy,
     /// The plan of the committed fields.
     pub plan: Plan,
@@ -124,6 +127,18 @@ pub fn parse_list(text: &str, base: &toml::Value) -> Result<Vec<toml::Value>, St
         .collect()
 }
 
+/// The scene key of the yarns' break tension.
+const BREAK_KEY: &str = "fabric.break_tension_n";
+
+/// A limit typed by the user: a finite number, or what was expected.
+fn limit_value(text: &str, expected: &str) -> Result<f64, String> {
+    text.trim()
+        .parse()
+        .ok()
+        .filter(|v: &f64| v.is_finite())
+        .ok_or_else(|| format!("{:?}: expected {expected}", text.trim()))
+}
+
 fn list_text(values: &[toml::Value]) -> String {
     values.iter().map(show_value).collect::<Vec<_>>().join(", ")
 }
@@ -135,6 +150,7 @@ impl Parameters {
         let plan =
             Plan::from_document(&source.path, &source.doc, &[]).map_err(|e| e.to_string())?;
         let locking_angle_deg = plan.base_scene.fabric.locking_angle_deg;
+        let break_tension_n = plan.base_scene.fabric.break_tension_n;
         let h = plan.base_scene.mesh.element_size;
         // The level nearest the scene's own mesh.
         let accuracy = Accuracy::ALL
@@ -162,10 +178,7 @@ impl Parameters {
                         .unwrap_or_default(),
                 };
                 Field {
-                    label: match c.name.as_str() {
-                        "holder_pressure" => "holder".into(),
-                        n => n.rsplit('.').next().unwrap_or(n).into(),
-                    },
+                    label: c.name.rsplit('.').next().unwrap_or(&c.name).into(),
                     unit: unit_of(&c.key),
                     text: list_text(&values),
                     target: Target::Axis {
@@ -181,6 +194,15 @@ impl Parameters {
             unit: "°",
             text: show_value(&toml::Value::Float(locking_angle_deg)),
         });
+        // The break tension is a limit, like the locking angle, unless the sweep varies it.
+        if !plan.axes.iter().any(|a| a.key == BREAK_KEY) {
+            fields.push(Field {
+                target: Target::BreakTension,
+                label: "break".into(),
+                unit: "N",
+                text: show_value(&toml::Value::Float(break_tension_n)),
+            });
+        }
         fields.push(Field {
             target: Target::Accuracy,
             label: "accuracy".into(),
@@ -191,6 +213,7 @@ impl Parameters {
             source,
             fields,
             locking_angle_deg,
+            break_tension_n,
             accuracy,
             plan,
         };
@@ -204,6 +227,9 @@ impl Parameters {
             "fabric.locking_angle_deg={:?}",
             self.locking_angle_deg
         )];
+        if self.fields.iter().any(|f| f.target == Target::BreakTension) {
+            sets.push(format!("{BREAK_KEY}={:?}", self.break_tension_n));
+        }
         sets.extend(self.accuracy.overrides());
         sets
     }
@@ -254,18 +280,12 @@ impl Parameters {
         match &field.target {
             Target::Accuracy => Accuracy::parse(text).map(|_| ()),
             Target::LockingAngle => {
-                let v: f64 = text
-                    .trim()
-                    .parse()
-                    .ok()
-                    .filter(|v: &f64| v.is_finite())
-                    .ok_or_else(|| {
-                        format!(
-                            "{:?}: expected the locking angle in degrees, e.g. 60",
-                            text.trim()
-                        )
-                    })?;
+                let v = limit_value(text, "the locking angle in degrees, e.g. 60")?;
                 self.check_value("fabric.locking_angle_deg", &toml::Value::Float(v))
+            }
+            Target::BreakTension => {
+                let v = limit_value(text, "the break tension in N, e.g. 1500")?;
+                self.check_value(BREAK_KEY, &toml::Value::Float(v))
             }
             Target::Axis { key, .. } => {
                 let values = parse_list(text, &self.base_value(key))?;
@@ -308,6 +328,10 @@ impl Parameters {
             Target::LockingAngle => {
                 self.locking_angle_deg = text.trim().parse().map_err(|_| "not a number")?;
                 field.text = show_value(&toml::Value::Float(self.locking_angle_deg));
+            }
+            Target::BreakTension => {
+                self.break_tension_n = text.trim().parse().map_err(|_| "not a number")?;
+                field.text = show_value(&toml::Value::Float(self.break_tension_n));
             }
             Target::Axis { ref key, .. } => {
                 let base = old.base_value(key);
@@ -389,7 +413,16 @@ mod tests {
         let labels: Vec<&str> = p.fields.iter().map(|f| f.label.as_str()).collect();
         assert_eq!(
             labels,
-            ["r", "rp", "rm", "friction", "holder", "locking", "accuracy"]
+            [
+                "r",
+                "rp",
+                "rm",
+                "friction",
+                "holder_pressure",
+                "locking",
+                "break",
+                "accuracy"
+            ]
         );
         assert_eq!(p.plan.len(), 8);
         assert_eq!(p.fields[0].text, "5, 10");
@@ -398,7 +431,7 @@ mod tests {
         assert!(p.check(3, "0.1, 0.3").is_ok());
         assert!(p.check(3, "1.5").unwrap_err().contains("process.friction"));
         assert!(
-            p.check(6, "fast")
+            p.check(7, "fast")
                 .unwrap_err()
                 .contains("coarse, standard or fine")
         );

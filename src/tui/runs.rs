@@ -19,14 +19,14 @@ impl App {
         // the locking angle edited since is another scene: a new run).
         let resume = matches!(self.run, RunState::Cancelled { .. })
             && plan.sweep_hash == self.table_plan.sweep_hash
-            && plan.base_hash == self.table_plan.base_hash
+            && plan.base_hash == self.run_base_hash
             && self.run_dir.is_some();
         // The grid changed (a value added to a range) on the same scene and columns: a design
         // is its values, so the finished ones keep their rows and only the new ones run, in
         // the same folder (the store renumbers the kept rows' files).
         let regrid = !resume
             && !self.running()
-            && plan.base_hash == self.table_plan.base_hash
+            && plan.base_hash == self.run_base_hash
             && plan.columns() == self.table_plan.columns()
             && self.run_dir.is_some()
             && self.entries.iter().any(|e| e.row.is_some());
@@ -46,19 +46,33 @@ impl App {
             self.session.join(format!("run-{}", self.runs))
         };
         self.status.clear();
-        self.begin_run(plan, dir, resume || regrid, None)
+        self.begin_run(plan, dir, resume || regrid)
     }
 
-    /// The run state of a run that starts now, and the command that starts it.
+    /// The run state of a run of the table's grid that starts now, and its command.
     fn begin_run(
+        &mut self,
+        plan: crate::study::sweep::Plan,
+        dir: std::path::PathBuf,
+        resume: bool,
+    ) -> Command {
+        self.table_plan = plan.clone();
+        self.run_base_hash = plan.base_hash.clone();
+        self.run_dir = Some(dir.clone());
+        self.begin_rerun(plan, dir, resume, None)
+    }
+
+    /// The run state of a run that starts now into `dir` (the grid's, or designs re-run
+    /// finer in a folder of their own: the table's grid and folder stay), and its command.
+    fn begin_rerun(
         &mut self,
         plan: crate::study::sweep::Plan,
         dir: std::path::PathBuf,
         resume: bool,
         only: Option<HashSet<String>>,
     ) -> Command {
-        self.table_plan = plan.clone();
-        self.run_dir = Some(dir.clone());
+        self.active_dir = Some(dir.clone());
+        self.active_accuracy = Accuracy::of_element_size(plan.base_scene.mesh.element_size);
         self.run = RunState::Running;
         self.to_run = 0;
         self.done = 0;
@@ -84,25 +98,55 @@ impl App {
     /// Runs the marginal designs again at the next finer level, in a run folder of their own;
     /// the other designs keep their rows (each row carries its own error band).
     pub(super) fn rerun_marginal(&mut self) -> Command {
+        let only = self.marginal_ids();
+        if only.is_empty() && !self.running() {
+            self.status = "no marginal design to re-run".into();
+            return Command::None;
+        }
+        let what = format!("{} marginal designs", only.len());
+        self.rerun_finer(only, &what)
+    }
+
+    /// Runs the selected design again one level finer than it was run (from its detail).
+    pub(super) fn rerun_selected(&mut self) -> Command {
+        let Some(e) = self.selected_entry() else {
+            return Command::None;
+        };
+        if e.row.is_none() {
+            self.status = "this design has not run yet: r runs the sweep".into();
+            return Command::None;
+        }
+        let what = format!("design {}", e.design.index);
+        let only = HashSet::from([e.design.id.clone()]);
+        self.rerun_finer(only, &what)
+    }
+
+    /// Runs the designs `only` one level finer than their rows were run, in a run folder of
+    /// their own; their rows wait for it, the others keep theirs. The parameters' level stays.
+    fn rerun_finer(&mut self, only: HashSet<String>, what: &str) -> Command {
         if self.running() {
             self.status = "a sweep is running: c cancels it".into();
             return Command::None;
         }
-        let only = self.marginal_ids();
-        if only.is_empty() {
-            self.status = "no marginal design to re-run".into();
+        let level = self
+            .entries
+            .iter()
+            .filter(|e| only.contains(&e.design.id))
+            .filter_map(|e| e.accuracy)
+            .min_by(|a, b| b.element_size_mm().total_cmp(&a.element_size_mm()))
+            .unwrap_or_else(|| self.table_accuracy());
+        let finer = level.step(true);
+        if finer == level {
+            self.status = format!("{what} at {level} already: the finest level cannot settle them");
             return Command::None;
         }
-        let finer = self.table_accuracy().step(true);
-        if finer == self.table_accuracy() {
-            self.status = format!(
-                "{} marginal designs at fine already: the finest level cannot settle them",
-                only.len()
-            );
+        let mut params = self.params.clone();
+        params.set_accuracy(finer);
+        if params.accuracy != finer || params.plan.axes != self.table_plan.axes {
+            self.status =
+                "the parameters were edited since the run: r runs the edited grid first".into();
             return Command::None;
         }
-        self.params.set_accuracy(finer);
-        let plan = self.params.plan.clone();
         for e in &mut self.entries {
             if only.contains(&e.design.id) {
                 e.row = None;
@@ -110,8 +154,8 @@ impl App {
         }
         self.runs += 1;
         let dir = self.session.join(format!("run-{}", self.runs));
-        self.status = format!("re-running {} marginal designs at {finer}", only.len());
-        self.begin_run(plan, dir, false, Some(only))
+        self.status = format!("re-running {what} at {finer}");
+        self.begin_rerun(params.plan, dir, false, Some(only))
     }
 
     /// The accuracy level the table's plan was run at.
@@ -129,14 +173,19 @@ fn carry_rows(
 ) -> Vec<super::app::Entry> {
     use crate::study::sweep::Design;
     let hash = |id: &str| Design::values_hash(id).map(str::to_string);
-    let rows: std::collections::HashMap<String, &crate::study::sweep::Row> = old
+    let rows: std::collections::HashMap<String, &super::app::Entry> = old
         .iter()
-        .filter_map(|e| Some((hash(&e.design.id)?, e.row.as_ref()?)))
+        .filter(|e| e.row.is_some())
+        .filter_map(|e| Some((hash(&e.design.id)?, e)))
         .collect();
     let mut entries = entries_of(plan);
     for e in &mut entries {
-        if let Some(row) = hash(&e.design.id).and_then(|h| rows.get(&h)) {
-            let mut row = (*row).clone();
+        if let Some(old) = hash(&e.design.id).and_then(|h| rows.get(&h)) {
+            let Some(mut row) = old.row.clone() else {
+                continue;
+            };
+            e.dir = old.dir.clone();
+            e.accuracy = old.accuracy;
             if row.map.is_some() {
                 row.map = Some(format!("maps/{}.png", e.design.id));
             }
@@ -146,4 +195,40 @@ fn carry_rows(
         }
     }
     entries
+}
+
+impl App {
+    /// Writes the selected design's own files (shear and tension PNG, VTU, summary), solving
+    /// it again at the level its row was run at, into `SESSION/<id>-<level>/`.
+    pub(super) fn write_selected_files(&mut self) -> Command {
+        let Some(e) = self.selected_entry() else {
+            return Command::None;
+        };
+        if e.row.is_none() {
+            self.status = "this design has not run yet: r runs the sweep".into();
+            return Command::None;
+        }
+        let level = e.accuracy.unwrap_or_else(|| self.table_accuracy());
+        let scene = match self.table_plan.design_scene(&e.design) {
+            Ok(mut scene) => {
+                scene.mesh.element_size = level.element_size_mm();
+                scene
+            }
+            Err(err) => {
+                self.status = format!("cannot write its files: {err}");
+                return Command::None;
+            }
+        };
+        let id = e.design.id.clone();
+        if matches!(self.design_files.get(&id), Some(Ok(f)) if f.is_empty()) {
+            return Command::None;
+        }
+        let dir = self.session.join(format!("{id}-{level}"));
+        self.design_files.insert(id.clone(), Ok(Vec::new()));
+        Command::WriteFiles {
+            design: id,
+            scene: Box::new(scene),
+            dir,
+        }
+    }
 }

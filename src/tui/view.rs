@@ -159,9 +159,16 @@ fn render_title(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
 fn render_parameters(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let focused = app.focus == Focus::Parameters;
     let mut lines = Vec::new();
+    let label_width = app
+        .params
+        .fields
+        .iter()
+        .map(|f| f.label.chars().count())
+        .max()
+        .unwrap_or(8);
     for (i, f) in app.params.fields.iter().enumerate() {
         let here = focused && i == app.cursor;
-        let label = format!("{:<9}", f.label.chars().take(9).collect::<String>());
+        let label = format!("{:<w$}", f.label, w = label_width + 1);
         let (text, style, mark) = match (&app.mode, here) {
             (Mode::Editing { buffer, error }, true) => {
                 let mark = if error.is_some() { " ✗" } else { " ✓" };
@@ -219,6 +226,7 @@ fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
         let hint = match &f.target {
             Target::Accuracy => "coarse (5 mm), standard (2.5 mm) or fine (1.25 mm)",
             Target::LockingAngle => "the fabric's shear locking angle, °",
+            Target::BreakTension => "the yarns' break tension, N",
             Target::Axis { key, .. } => axis_hint(key.as_str()),
         };
         lines.push(Line::styled(hint, st.dim()));
@@ -324,6 +332,17 @@ fn render_table(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
             ""
         }
     );
+    let title = match app
+        .table_plan
+        .columns()
+        .iter()
+        .any(|c| c.name == "holder_pressure")
+    {
+        true if area.width as usize > title.chars().count() + 28 => {
+            format!("{title}· p holder pressure ")
+        }
+        _ => title,
+    };
     let block =
         Block::bordered()
             .title(title)
@@ -353,6 +372,7 @@ fn table_header(app: &App) -> (Vec<String>, Vec<Constraint>) {
     let short = |name: &str| match name {
         "friction" => "μ".to_string(),
         "holder_pressure" => "p MPa".to_string(),
+        "r" | "rp" | "rm" => format!("{name} mm"),
         n => n.rsplit('.').next().unwrap_or(n).to_string(),
     };
     let p = params.len();
@@ -413,10 +433,11 @@ fn is_paper_design(e: &Entry) -> bool {
     }
 }
 
-/// The width of a parameter's column, characters.
+/// The width of a parameter's column, characters: its header with units and the sort mark.
 fn param_width(name: &str) -> usize {
     match name {
-        "friction" | "holder_pressure" => 5,
+        "r" | "friction" => 5,
+        "rp" | "rm" | "holder_pressure" => 6,
         _ => 4,
     }
 }
@@ -527,7 +548,7 @@ fn render_keys(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let keys = match &app.mode {
         Mode::Editing { .. } => "type · Enter keep · Esc drop",
         Mode::Exporting { .. } => "type a folder · Enter export · Esc drop",
-        Mode::Detail => "↑↓ design · Esc back · q quit",
+        Mode::Detail => "↑↓ design · t shear/tension · + finer · w PNG/VTU · Esc back · q quit",
         _ if app.running() => "c cancel · s sort · f feasible · Enter detail · ? help · q quit",
         _ => "r run · e export · s sort · f feasible · Tab panel · Enter · ? help · q quit",
     };
@@ -553,6 +574,9 @@ const HELP: &[(&str, &str)] = &[
     ),
     ("c, Esc", "cancel: workers stop, finished rows stay"),
     ("m", "re-run the marginal designs at the next finer level"),
+    ("+", "re-run the selected design at the next finer level"),
+    ("t", "the detail's map: shear or yarn tension"),
+    ("w", "write the selected design's PNG maps and VTU"),
     ("e", "export results.csv, maps and report.png to a folder"),
     ("Tab", "move between the parameters and the results"),
     ("↑ ↓ PgUp PgDn", "select a parameter or a design"),

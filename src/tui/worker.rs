@@ -25,6 +25,11 @@ pub enum Message {
     },
     /// An export ended: the files written, or why not.
     Exported(Result<Vec<PathBuf>, String>),
+    /// A design's own files (maps, VTU, summary) are written, or why not.
+    Written {
+        design: String,
+        result: Result<Vec<PathBuf>, String>,
+    },
 }
 
 /// Starts `plan` into `dir` (resuming the rows already there); returns the stop flag.
@@ -74,20 +79,62 @@ pub fn start_sweep(
     stop
 }
 
-/// Writes the results of the sweep folder `from` into `to` as the headless sweep does: the
-/// CSV, `results.json`, the maps on one scale and the report sheet.
-pub fn start_export(from: PathBuf, to: PathBuf, tx: Sender<Message>) {
+/// Writes the results of the run folders `from` as the headless sweep does (the CSV,
+/// `results.json`, the maps on one scale and the report sheet): the first into `to`, each
+/// other (designs re-run finer, a scene of their own) into `to/<its folder name>`.
+pub fn start_export(from: Vec<PathBuf>, to: PathBuf, tx: Sender<Message>) {
     thread::Builder::new()
         .name("explorer-export".into())
         .spawn(move || {
-            let result = sweep::merge(&[from], &to)
-                .map_err(|e| e.to_string())
-                .and_then(|(plan, outcome)| {
-                    let pool = sweep::pool(None).map_err(|e| e.to_string())?;
-                    crate::publish::sweep_report(&plan, &to, &outcome.rows, None, &pool)
-                        .map_err(|e| e.to_string())
-                });
-            let _ = tx.send(Message::Exported(result));
+            let one = |from: &PathBuf, to: &PathBuf| -> Result<Vec<PathBuf>, String> {
+                let (plan, outcome) =
+                    sweep::merge(std::slice::from_ref(from), to).map_err(|e| e.to_string())?;
+                let pool = sweep::pool(None).map_err(|e| e.to_string())?;
+                crate::publish::sweep_report(&plan, to, &outcome.rows, None, &pool)
+                    .map_err(|e| e.to_string())
+            };
+            let mut written = Vec::new();
+            let mut result = Ok(());
+            for (k, dir) in from.iter().enumerate() {
+                let target = match (k, dir.file_name()) {
+                    (0, _) | (_, None) => to.clone(),
+                    (_, Some(name)) => to.join(name),
+                };
+                match one(dir, &target) {
+                    Ok(files) => written.extend(files),
+                    Err(e) => {
+                        result = Err(e);
+                        break;
+                    }
+                }
+            }
+            let _ = tx.send(Message::Exported(result.map(|()| written)));
+        })
+        .expect("a thread can be started");
+}
+
+/// Solves one design again as `wovenform run` does and writes its files into `dir`:
+/// `shear.png`, `tension.png`, `result.vtu` and `summary.json`.
+pub fn start_design_files(
+    design: String,
+    scene: crate::scene::Scene,
+    dir: PathBuf,
+    tx: Sender<Message>,
+) {
+    thread::Builder::new()
+        .name("explorer-design-files".into())
+        .spawn(move || {
+            let problem = scene.to_problem();
+            let start = std::time::Instant::now();
+            let result = crate::core::drawing::solve(&problem, &mut |_| {});
+            let wall_s = start.elapsed().as_secs_f64();
+            let mut summary = crate::summary::RunSummary::new(&design, &scene, &result, wall_s);
+            let written = crate::publish::write_run(&dir, &mut summary, &result, &problem.tooling)
+                .map_err(|e| e.to_string());
+            let _ = tx.send(Message::Written {
+                design,
+                result: written,
+            });
         })
         .expect("a thread can be started");
 }

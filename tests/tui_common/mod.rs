@@ -116,9 +116,17 @@ pub fn corner_field(id: &str, peak: f64, locking: f64) -> StoredField {
         quarter: true,
         nodes,
         quads,
-        shear_deg: shear,
+        shear_deg: shear.clone(),
         max_at: Some([30.0, 30.0]),
         die_opening: Vec::new(),
+        // Tension follows the shear (6 N per degree); equal elements, so the share over the
+        // limit is the share of elements.
+        tension_n: shear.iter().map(|s| 6.0 * s).collect(),
+        break_tension_n: 1500.0,
+        max_tension_n: 6.0 * peak,
+        draw_in_mm: 12.5,
+        area_over_limit_pct: 100.0 * shear.iter().filter(|s| **s > locking).count() as f64
+            / shear.len() as f64,
     }
 }
 
@@ -127,11 +135,10 @@ pub fn deliver(app: &mut App, designs: &[usize]) {
     for &i in designs {
         let r = row(app, i, FIGURES[i]);
         let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
-        app.fields.insert(
-            r.design.clone(),
-            Ok(corner_field(&r.design, FIGURES[i].0, locking)),
-        );
+        let id = r.design.clone();
         app.on_message(Message::Row(Box::new(r)));
+        app.fields
+            .insert(id.clone(), Ok(corner_field(&id, FIGURES[i].0, locking)));
     }
 }
 

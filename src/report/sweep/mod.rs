@@ -35,14 +35,20 @@ pub fn design_label(plan: &Plan, design: &Design) -> String {
     }
 }
 
-/// The full blank's plan quads and values (mirrored when a quarter was solved).
+/// The full blank's plan quads and shear values (mirrored when a quarter was solved).
 pub fn full_blank(field: &StoredField) -> (Vec<PlanQuad>, Vec<f64>) {
+    full_blank_of(field, &field.shear_deg)
+}
+
+/// The full blank's plan quads and `values`, one per element of the field (mirrored when a
+/// quarter was solved; missing values read 0).
+pub fn full_blank_of(field: &StoredField, values: &[f64]) -> (Vec<PlanQuad>, Vec<f64>) {
     let quads: Vec<PlanQuad> = field
         .quads
         .iter()
         .map(|q| q.map(|n| field.nodes.get(n as usize).copied().unwrap_or([0.0; 2])))
         .collect();
-    let mut values = field.shear_deg.clone();
+    let mut values = values.to_vec();
     values.resize(quads.len(), 0.0);
     if field.quarter {
         mirror_quads(&quads, &values)

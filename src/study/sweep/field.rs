@@ -33,6 +33,21 @@ pub struct StoredField {
     pub shear_deg: Vec<f64>,
     pub max_at: Option<[f64; 2]>,
     pub die_opening: Vec<[f64; 2]>,
+    /// The larger yarn tension of each element, N (to 0.1 N); empty in fields written before
+    /// it was kept.
+    #[serde(default)]
+    pub tension_n: Vec<f64>,
+    /// The figures the detail shows beside the map: the yarns' break tension and the peak
+    /// over a cell (N), how far the blank's edge drew in (mm), and the share of the blank
+    /// over the locking angle (%).
+    #[serde(default)]
+    pub break_tension_n: f64,
+    #[serde(default)]
+    pub max_tension_n: f64,
+    #[serde(default)]
+    pub draw_in_mm: f64,
+    #[serde(default)]
+    pub area_over_limit_pct: f64,
 }
 
 impl StoredField {
@@ -92,6 +107,15 @@ impl StoredField {
                 .iter()
                 .map(|p| [r3(p[0]), r3(p[1])])
                 .collect(),
+            tension_n: result
+                .tension_max_n
+                .iter()
+                .map(|t| round_to(*t, 1))
+                .collect(),
+            break_tension_n: summary.break_tension_n,
+            max_tension_n: r3(summary.max_tension_n),
+            draw_in_mm: r3(summary.draw_in_mm),
+            area_over_limit_pct: r3(summary.area_over_limit_pct),
         }
     }
 }
