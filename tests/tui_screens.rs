@@ -193,7 +193,7 @@ fn large_terminal_shows_the_detail_beside_the_table() {
 
 /// The explorer's keys as README.md documents them ("The explorer"), each with a word of what
 /// it does: the answer the help screen is checked against.
-const README_KEYS: [(&str, &str); 11] = [
+const README_KEYS: [(&str, &str); 14] = [
     ("Tab", "parameters"),
     ("↑ ↓", "select"),
     ("Enter", "edit"),
@@ -205,6 +205,9 @@ const README_KEYS: [(&str, &str); 11] = [
     ("e", "export"),
     ("?", "help"),
     ("q", "quit"),
+    ("t", "tension"),
+    ("+", "finer"),
+    ("w", "VTU"),
 ];
 
 /// The help's entries: inside the help's box, for each line `KEYS  what they do`, the keys
