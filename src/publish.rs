@@ -173,3 +173,39 @@ pub fn write_fit(
     fit_chart(samples, result, &title).write_png(&png)?;
     Ok(png)
 }
+
+/// Writes a bias-extension test's `bias.csv` (`displacement_mm,force_n,shear_centre_deg`),
+/// `bias.png` (its force against the ideal kinematics', and `measured` points when given) and
+/// `shear.png` into `dir` (created); returns their paths.
+pub fn write_bias(
+    dir: &Path,
+    problem: &crate::core::bias::BiasProblem,
+    result: &crate::core::bias::BiasResult,
+    locking_angle_deg: f64,
+    measured: Option<&[(f64, f64)]>,
+) -> Result<Vec<PathBuf>, PublishError> {
+    use crate::report::bias;
+    std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
+    let csv_path = dir.join("bias.csv");
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let row_error = |e: csv::Error| io(&csv_path, "write")(std::io::Error::other(e.to_string()));
+    w.write_record(["displacement_mm", "force_n", "shear_centre_deg"])
+        .map_err(row_error)?;
+    for i in 0..result.displacement_mm.len() {
+        w.write_record([
+            format!("{:.4}", result.displacement_mm[i]),
+            format!("{:.6}", result.force_n[i]),
+            format!("{:.4}", result.shear_centre_deg[i]),
+        ])
+        .map_err(|e| io(&csv_path, "write")(std::io::Error::other(e.to_string())))?;
+    }
+    let text = w
+        .into_inner()
+        .map_err(|e| io(&csv_path, "write")(std::io::Error::other(e.to_string())))?;
+    write_atomic(&csv_path, &String::from_utf8_lossy(&text))?;
+    let png = dir.join("bias.png");
+    bias::force_chart(problem, result, measured).write_png(&png)?;
+    let map = dir.join("shear.png");
+    bias::shear_map(problem, result, locking_angle_deg).write_png(&map)?;
+    Ok(vec![csv_path, png, map])
+}

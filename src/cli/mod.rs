@@ -6,6 +6,7 @@
 //! option, the key and what was expected). Clap's own usage errors also exit with 2.
 
 mod bench;
+mod bias;
 mod converge;
 mod error;
 mod fit;
@@ -46,8 +47,12 @@ pub enum Command {
     /// Evaluate the biaxial woven-cell law at one strain pair (one JSON object), or draw the
     /// paper's Figure 6 with --curves.
     Law(law::LawArgs),
-    /// Identify A and B (and C with --fit-c) from measured biaxial tension curves.
+    /// Identify A and B (and C with --fit-c) from measured biaxial tension curves, or the
+    /// shear law from a bias-extension curve (--bias HxW).
     Fit(fit::FitArgs),
+    /// The bias-extension test of a scene's fabric: an H × W specimen, yarns at ±45°, pulled
+    /// by D mm; writes bias.csv, bias.png and the shear map.
+    Bias(bias::BiasArgs),
     /// Measure throughput on this machine (one thread; medians of several repetitions).
     Bench(bench::BenchArgs),
     /// Solve a scene on a ladder of mesh sizes and of load-step counts: each rung's error
@@ -69,6 +74,7 @@ pub fn exec(cli: Cli) -> Result<(), CliError> {
         Some(Command::Merge(args)) => merge::exec(args),
         Some(Command::Law(args)) => law::exec(args),
         Some(Command::Fit(args)) => fit::exec(args),
+        Some(Command::Bias(args)) => bias::exec(args),
         Some(Command::Bench(args)) => bench::exec(args),
     }
 }

@@ -54,6 +54,10 @@ pub struct ElementGeometry {
     pub yarn_angle0: f64,
     /// Initial area, mm².
     pub area0: f64,
+    /// At each Gauss point: the initial angle between the yarns (rad) and the initial area it
+    /// stands for (mm²), for the shear law.
+    pub theta0: [f64; GAUSS],
+    pub area_gp: [f64; GAUSS],
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -173,9 +177,13 @@ impl ElementGeometry {
         let mut d = [[[0.0; 4]; 2]; GAUSS];
         let mut cells = [0.0; GAUSS];
         let mut area0 = 0.0;
+        let mut theta0 = [0.0; GAUSS];
+        let mut area_gp = [0.0; GAUSS];
         for (gp, xi) in GAUSS_XI.iter().enumerate() {
             let at = YarnFrame::at(x0, *xi, yarns)?;
             d[gp] = at.d;
+            theta0[gp] = at.yarn_angle;
+            area_gp[gp] = at.det_j;
             // Gauss weights are 1 for the 2×2 rule on [−1, 1]².
             area0 += at.det_j;
             cells[gp] = at.det_j / (cell_lengths * at.yarn_angle.sin().abs());
@@ -187,6 +195,8 @@ impl ElementGeometry {
             d_centre: centre.d,
             yarn_angle0: centre.yarn_angle,
             area0,
+            theta0,
+            area_gp,
         })
     }
 
@@ -279,10 +289,16 @@ pub fn evaluate(
     let mut wbt = [[0.0; 2 * GAUSS]; 12];
     // Geometric stiffness per node pair: Σ S̃α dαN^k dαN^q.
     let mut geometric = [[0.0; 4]; 4];
+    // The shear law's tangent (upper triangle filled at the end), when there is one.
+    let mut k_shear = [[0.0; 12]; 12];
     for gp in 0..GAUSS {
         let d = &geo.d[gp];
         let n = geo.cells[gp];
         let f = yarn_images(d, x);
+        if let Some(law) = &law.shear {
+            let a = geo.area_gp[gp];
+            out.energy += add_shear(law, (d, &f, geo.theta0[gp], a), tangent, out, &mut k_shear);
+        }
         let stretch = [norm(f[0]), norm(f[1])];
         let eps = [stretch[0] - 1.0, stretch[1] - 1.0];
         let r = law.evaluate(eps, crimp[gp]);
@@ -356,8 +372,54 @@ pub fn evaluate(
             if i % 3 == j % 3 {
                 v += geometric[i / 3][j / 3];
             }
+            v += k_shear[i][j];
             out.k[i][j] = v;
             out.k[j][i] = v;
         }
     }
+}
+
+/// Adds the shear law's force (and tangent, to `k`) at one Gauss point: `d` its `dαN^k`, `f`
+/// the yarn images, `theta0` the initial yarn angle (rad), `area` the initial area (mm²) it
+/// stands for. Returns the energy, N·mm.
+///
+/// ```text
+///   F[3k+m] = A M(γ) Gk,m,        Gk,m = Σα dαN^k ∂γ/∂fα[m]
+///   K = A [M'(γ) G Gᵀ + M(γ) Σαβ dαN^k dβN^q ∂²γ/∂fα[m]∂fβ[n]]
+/// ```
+fn add_shear(
+    law: &crate::core::shear::ShearLaw,
+    (d, f, theta0, area): (&[[f64; 4]; 2], &[[f64; 3]; 2], f64, f64),
+    tangent: bool,
+    out: &mut ElementOutput,
+    k: &mut [[f64; 12]; 12],
+) -> f64 {
+    let kin = crate::core::shear::shear_kinematics(f, theta0, tangent);
+    let g = kin.gamma;
+    let m = area * law.moment(g);
+    let mut grad = [0.0; 12];
+    for node in 0..4 {
+        for c in 0..3 {
+            grad[3 * node + c] = d[0][node] * kin.grad[0][c] + d[1][node] * kin.grad[1][c];
+        }
+    }
+    for i in 0..12 {
+        out.f[i] += m * grad[i];
+    }
+    if tangent {
+        let stiff = area * law.stiffness(g);
+        for i in 0..12 {
+            for j in i..12 {
+                let (kn, mc, qn, nc) = (i / 3, i % 3, j / 3, j % 3);
+                let mut h = 0.0;
+                for a in 0..2 {
+                    for b in 0..2 {
+                        h += d[a][kn] * d[b][qn] * kin.hess[a][b][mc][nc];
+                    }
+                }
+                k[i][j] += stiff * grad[i] * grad[j] + m * h;
+            }
+        }
+    }
+    area * law.energy(g)
 }

@@ -90,6 +90,8 @@ impl CellResponse {
 #[derive(Clone, Copy, Debug)]
 pub struct CellLaw {
     pub p: CellParams,
+    /// The in-plane shear law (beyond the paper); `None`: the paper's cell, free to shear.
+    pub shear: Option<crate::core::shear::ShearLaw>,
     /// `1/ℓ0α`, the inverse initial doubled yarn length.
     inv_len0: [f64; 2],
     /// `e01 + e02`, mm.
@@ -120,9 +122,16 @@ impl CellLaw {
         let len0 = |a: usize| (p.l0[a] * p.l0[a] + 4.0 * p.e0[a] * p.e0[a]).sqrt();
         CellLaw {
             p,
+            shear: None,
             inv_len0: [1.0 / len0(0), 1.0 / len0(1)],
             h_total: p.e0[0] + p.e0[1],
         }
+    }
+
+    /// The same cell with the in-plane shear law `shear` (or none).
+    pub fn with_shear(mut self, shear: Option<crate::core::shear::ShearLaw>) -> Self {
+        self.shear = shear;
+        self
     }
 
     /// The crimp state before any load.

@@ -6,11 +6,13 @@
 // Index loops mirror the paper's index notation (α, β, k, m); keep them.
 #![allow(clippy::needless_range_loop)]
 
+pub mod bias;
 pub mod contact;
 pub mod drawing;
 pub mod element;
 pub mod law;
 pub mod linear;
 pub mod mesh;
+pub mod shear;
 pub mod solver;
 pub mod tools;

@@ -153,6 +153,10 @@ impl Scene {
     pub fn to_problem(&self) -> DrawingProblem {
         let mut p = default_problem();
         p.fabric = self.to_cell_params();
+        p.shear = self
+            .fabric
+            .shear_moment
+            .map(|k| crate::core::shear::ShearLaw { k });
         p.yarn_angle_deg = self.fabric.yarn_angle_deg;
         p.tooling = self.tools.tooling();
         p.blank = self.blank.size.0;

@@ -132,6 +132,10 @@ pub struct Fabric {
     pub break_tension_n: f64,
     /// Initial angle between warp and weft, degrees.
     pub yarn_angle_deg: f64,
+    /// The in-plane shear moment per unit initial area `M(γ) = k1 γ + k3 γ³ + k5 γ⁵`,
+    /// `[k1, k3, k5]` in N·mm/mm² (γ in radians): beyond the paper, absent by default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear_moment: Option<[f64; 3]>,
 }
 
 impl Default for Fabric {
@@ -147,6 +151,7 @@ impl Default for Fabric {
             locking_angle_deg: 60.0,
             break_tension_n: 1500.0,
             yarn_angle_deg: 90.0,
+            shear_moment: None,
         }
     }
 }

@@ -127,6 +127,16 @@ impl Scene {
             let what = "a yarn breaking tension > 0 N";
             broken("fabric.break_tension_n", Num(f.break_tension_n), what)
         })?;
+        if let Some(k) = f.shear_moment {
+            ok_if(shear_law_holds(k), || {
+                broken(
+                    "fabric.shear_moment",
+                    format!("[{}, {}, {}]", Num(k[0]), Num(k[1]), Num(k[2])),
+                    "[k1, k3, k5] in N·mm/mm², finite, with k1 ≥ 0 and the moment k1 γ + k3 γ³ + \
+                     k5 γ⁵ rising from γ = 0 to 90° (a softening law has no unique answer)",
+                )
+            })?;
+        }
         // An initial angle further from 90° than the locking angle is a fabric locked before
         // it is formed.
         let (lo, hi) = (90.0 - f.locking_angle_deg, 90.0 + f.locking_angle_deg);
@@ -317,6 +327,15 @@ impl Scene {
             broken("numerics.penalty_factor", Num(n.penalty_factor), what)
         })
     }
+}
+
+/// A shear law `[k1, k3, k5]` that stiffens or holds: finite, k1 ≥ 0, and `dM/dγ ≥ 0` from 0
+/// to 90° (checked on a fine grid of γ).
+fn shear_law_holds(k: [f64; 3]) -> bool {
+    let law = crate::core::shear::ShearLaw { k };
+    k.iter().all(|v| v.is_finite())
+        && k[0] >= 0.0
+        && (0..=90).all(|d| law.stiffness((d as f64).to_radians()) >= 0.0)
 }
 
 #[cfg(test)]

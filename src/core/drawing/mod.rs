@@ -114,6 +114,8 @@ pub enum Symmetry {
 #[derive(Clone, Debug, PartialEq)]
 pub struct DrawingProblem {
     pub fabric: CellParams,
+    /// The fabric's in-plane shear law (beyond the paper); `None`: the paper's fabric.
+    pub shear: Option<crate::core::shear::ShearLaw>,
     /// Initial angle between warp and weft, degrees (the warp along x).
     pub yarn_angle_deg: f64,
     pub tooling: Tooling,
@@ -144,6 +146,7 @@ impl DrawingProblem {
     pub fn paper_box(r: f64, rp: f64, rm: f64) -> DrawingProblem {
         DrawingProblem {
             fabric: CellParams::PAPER_GLASS,
+            shear: None,
             yarn_angle_deg: 90.0,
             tooling: Tooling::Box {
                 side: [60.0, 60.0],
@@ -180,7 +183,10 @@ impl DrawingProblem {
     /// has no shear and no bending stiffness, so it takes tension only when the flange is held
     /// back, by the holder's pressure through friction.
     pub fn unrestrained(&self) -> Option<Unrestrained> {
-        if self.friction == 0.0 {
+        if self.shear.is_some() {
+            // A shear stiffness: the solve says whether the sheet is still a mechanism.
+            None
+        } else if self.friction == 0.0 {
             Some(Unrestrained::NoFriction)
         } else if self.holder_pressure == 0.0 {
             Some(Unrestrained::NoHolder)
@@ -368,7 +374,7 @@ impl DrawingProblem {
         let mesh = self.blank_mesh(quarter);
         let left_out = self.left_out();
         let prescribed = symmetry_planes(&mesh, quarter);
-        let law = CellLaw::new(self.fabric);
+        let law = CellLaw::new(self.fabric).with_shear(self.shear);
         let model = Model::new(mesh, law, &prescribed.dofs).map_err(DrawingFailure::BadElement)?;
         let contact = self.contact(&model);
         Ok(Prepared {

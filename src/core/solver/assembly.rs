@@ -97,12 +97,23 @@ impl Workspace {
 
     fn add_element_tangents(&mut self, model: &Model) {
         self.values.iter_mut().for_each(|v| *v = 0.0);
-        for (out, slots) in model.outputs.iter().zip(&model.element_slots) {
+        for ((out, slots), &twice) in model
+            .outputs
+            .iter()
+            .zip(&model.element_slots)
+            .zip(&model.element_twice)
+        {
             for i in 0..12 {
                 for j in i..12 {
-                    let s = slots[pair_index(i, j)];
+                    let p = pair_index(i, j);
+                    let s = slots[p];
                     if s != u32::MAX {
-                        self.values[s as usize] += out.k[i][j];
+                        let k = if (twice >> p) & 1 == 1 {
+                            2.0 * out.k[i][j]
+                        } else {
+                            out.k[i][j]
+                        };
+                        self.values[s as usize] += k;
                     }
                 }
             }

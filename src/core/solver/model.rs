@@ -43,6 +43,10 @@ pub struct Model {
     pub(super) eq: Vec<usize>,
     /// Slots of each element's upper-triangle pairs (`i ≤ j` over 12 dofs), `u32::MAX` if none.
     pub(super) element_slots: Vec<[u32; 78]>,
+    /// For each element, the pairs `i < j` (bit `pair_index(i, j)`) whose two dofs are the
+    /// same global dof (a quad collapsed into a triangle): their entry counts twice in the
+    /// stored triangle, once for `(i, j)` and once for its mirror `(j, i)`.
+    pub(super) element_twice: Vec<u128>,
     /// Slots of each node's 3×3 block, row-major, `u32::MAX` where a dof is prescribed. Both
     /// halves of the block name the same stored entry.
     pub(super) node_slots: Vec<[u32; 9]>,
@@ -158,6 +162,21 @@ impl Model {
         });
         let linear = SparseCholesky::new(UpperPattern::from_couplings(n, couplings));
         let (element_slots, node_slots) = slots(&mesh, &eq, &linear);
+        let element_twice = mesh
+            .quads
+            .iter()
+            .map(|q| {
+                let mut bits = 0u128;
+                for i in 0..12 {
+                    for j in i + 1..12 {
+                        if element_dof(q, i) == element_dof(q, j) {
+                            bits |= 1 << pair_index(i, j);
+                        }
+                    }
+                }
+                bits
+            })
+            .collect();
         let cell_stiffness = cell_stiffness(&mesh, &geometry, &law);
         let element_size =
             (geometry.iter().map(|g| g.area0).sum::<f64>() / geometry.len().max(1) as f64).sqrt();
@@ -167,6 +186,7 @@ impl Model {
             crimp: vec![[law.initial_state(); GAUSS]; ne],
             eq,
             element_slots,
+            element_twice,
             node_slots,
             linear,
             cell_stiffness,
@@ -176,6 +196,15 @@ impl Model {
             mesh,
             law,
         })
+    }
+
+    /// Scales the damping of the Newton corrections (the cells' tensile stiffness by default)
+    /// by `factor`: a problem whose load is carried by a much softer term (a bias test held by
+    /// the shear law alone) damps at that term's scale, or its corrections crawl.
+    pub fn scale_damping(&mut self, factor: f64) {
+        for k in &mut self.cell_stiffness {
+            *k *= factor;
+        }
     }
 
     /// Free (solved-for) dofs.

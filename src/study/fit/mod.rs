@@ -12,6 +12,7 @@ use crate::core::law::{CellLaw, CellParams};
 
 mod identify;
 mod samples;
+pub mod shear;
 
 pub use identify::{ParamCheck, percent};
 pub use samples::{
