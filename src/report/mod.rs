@@ -1,6 +1,7 @@
 //! Reports: charts (PNG), tables (CSV) and the paper's figures reproduced from the law; the
 //! maps, VTU file and summary of a drawing run; the report sheet of a design sweep.
 pub mod bench;
+pub mod canvas;
 pub mod converge;
 pub mod error;
 pub mod figure6;

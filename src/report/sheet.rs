@@ -26,7 +26,7 @@ use std::path::Path;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::maps::{OVER_LIMIT, colour_of};
+use super::maps::{OVER_LIMIT, colour_of, nice_step};
 use super::mirror::PlanQuad;
 use super::plot::{LineChart, register_fonts, tick_label};
 use crate::verdict::Verdict;
@@ -93,7 +93,7 @@ pub struct Sheet {
     pub ranking: Vec<(Option<Verdict>, String)>,
 }
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+use super::canvas::{Area, Canvas};
 
 const MARGIN: i32 = 30;
 const TITLE_H: i32 = 40 + 2 * 8;
@@ -136,7 +136,7 @@ impl Sheet {
         register_fonts();
         let fail = DrawError::at(path, "sheet");
         let size = self.size();
-        let root = BitMapBackend::new(path, size).into_drawing_area();
+        let root = Canvas::new(path, size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
         self.draw(&root, size).map_err(|e| fail(&e))?;
         root.present().map_err(|e| fail(&e))?;
@@ -272,13 +272,14 @@ impl Sheet {
         let mut v = 0.0;
         while v <= top + 1e-9 {
             let p = px(v);
+            // Clear of the bar: a gap, the tick, a gap, the label.
             root.draw(&PathElement::new(
-                vec![(p, y1), (p, y1 + 6)],
+                vec![(p, y1 + 5), (p, y1 + 11)],
                 ShapeStyle::from(BLACK).stroke_width(1),
             ))
             .map_err(|e| err(&e))?;
             if (p - px(self.limit)).abs() > 28 {
-                root.draw(&Text::new(tick_label(v), (p, y1 + 9), label.clone()))
+                root.draw(&Text::new(tick_label(v), (p, y1 + 19), label.clone()))
                     .map_err(|e| err(&e))?;
             }
             v += step;
@@ -302,7 +303,7 @@ impl Sheet {
         .map_err(|e| err(&e))?;
         root.draw(&Text::new(
             format!("{}°", tick_label(self.limit)),
-            (pl, y1 + 9),
+            (pl, y1 + 19),
             (font, 17)
                 .into_font()
                 .style(FontStyle::Bold)
@@ -324,7 +325,7 @@ impl Sheet {
         }
         root.draw(&Text::new(
             "one colour scale for every map of the sweep",
-            (x0, y1 + 34),
+            (x0, y1 + 44),
             (font, 17)
                 .into_font()
                 .color(&RGBColor(70, 70, 70))
@@ -520,19 +521,6 @@ fn fit_text(
     }
     root.draw(&Text::new(text.to_string(), at, style_at(size)))
         .map_err(|e| e.to_string())
-}
-
-/// 1, 2 or 5 times a power of ten, at least `raw`.
-fn nice_step(raw: f64) -> f64 {
-    if !(raw > 0.0 && raw.is_finite()) {
-        return 1.0;
-    }
-    let p = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * p)
-        .find(|&s| s >= raw)
-        .unwrap_or(10.0 * p)
 }
 
 /// Splits text into lines of at most `width` characters at spaces.
