@@ -189,7 +189,7 @@ mod tests {
             unit: Unit::Degrees,
             max_at: None,
             peak: None,
-            die_opening: Vec::new(),
+            outlines: Vec::new(),
             size: (1100, 900),
             scale_max: None,
         };

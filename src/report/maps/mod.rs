@@ -9,8 +9,10 @@
 //! the limit with a line and its value; the die opening is drawn dashed.
 
 mod bar;
+mod developed;
 
 pub use bar::nice_step;
+pub use developed::{FullBlank, MaterialLine, shear_developed, tension_developed};
 
 use super::error::DrawError;
 use std::path::Path;
@@ -69,7 +71,7 @@ pub fn colour_on(value: f64, limit: f64, span: f64) -> (u8, u8, u8) {
 pub struct FieldMap {
     /// First title line (scene, figure, verdict).
     pub title: String,
-    /// Second title line (what is shown).
+    /// Second title line (what is shown); a line break starts another line.
     pub subtitle: String,
     /// Third title line: the design (tools, friction, pressure, mesh); empty: none.
     pub design: String,
@@ -92,13 +94,45 @@ pub struct FieldMap {
     /// The peak over a woven cell there (the figure the verdict uses), for the marker's label;
     /// the colour bar marks the largest element value.
     pub peak: Option<f64>,
-    /// The die opening in plan, a closed polyline (mm); empty for none.
-    pub die_opening: Vec<[f64; 2]>,
+    /// Lines drawn over the field (mm): the die opening, dashed, on a top view; the material
+    /// that ends at the die-opening edge or the punch's nose on the flat blank.
+    pub outlines: Vec<Outline>,
     /// Image size in pixels.
     pub size: (u32, u32),
     /// The top of the colour scale, when several maps share one (a sweep); `None`: a little
     /// past the limit, or the largest value (see [`FieldMap::scale_top`]).
     pub scale_max: Option<f64>,
+}
+
+/// A line drawn over a map, a polyline in plan (mm).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outline {
+    pub points: Vec<[f64; 2]>,
+    pub style: OutlineStyle,
+}
+
+/// How an [`Outline`] is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutlineStyle {
+    /// Long grey dashes (the die opening).
+    Dashed,
+    /// Short black dashes (the punch).
+    Dotted,
+}
+
+impl Outline {
+    pub fn dashed(points: Vec<[f64; 2]>) -> Self {
+        Outline {
+            points,
+            style: OutlineStyle::Dashed,
+        }
+    }
+    pub fn dotted(points: Vec<[f64; 2]>) -> Self {
+        Outline {
+            points,
+            style: OutlineStyle::Dotted,
+        }
+    }
 }
 
 /// How values are written on a map.
@@ -181,7 +215,7 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
         unit: Unit::Degrees,
         max_at: (!result.shear_deg.is_empty()).then_some([c[0], c[1]]),
         peak: Some(max),
-        die_opening: die_opening_outline(&ctx.tooling),
+        outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
         size: (1100, 900),
         scale_max: None,
     }
@@ -212,7 +246,7 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
         unit: Unit::Newtons,
         max_at: (max > 0.0).then_some([c[0], c[1]]),
         peak: Some(max),
-        die_opening: die_opening_outline(&ctx.tooling),
+        outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
         size: (1100, 900),
         scale_max: None,
     }
@@ -278,7 +312,13 @@ impl FieldMap {
         let err = |e: &dyn std::fmt::Display| e.to_string();
         let font = "sans-serif";
         let (w, _) = self.size;
-        let head = if self.design.is_empty() { 86 } else { 108 };
+        // The title, then the subtitle's lines and the design's, 26 px apart.
+        let lines: Vec<&str> = self
+            .subtitle
+            .lines()
+            .chain((!self.design.is_empty()).then_some(self.design.as_str()))
+            .collect();
+        let head = 60 + 26 * lines.len().max(1) as u32;
         let (top, body) = root.split_vertically(head);
         // Each title line at the largest size (up to its nominal one) that fits the width.
         let line = |text: &str, y: i32, size: u32, bold: bool, colour: RGBColor| {
@@ -301,9 +341,8 @@ impl FieldMap {
             ))
         };
         line(&self.title, 14, 26, true, BLACK).map_err(|e| err(&e))?;
-        line(&self.subtitle, 54, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
-        if !self.design.is_empty() {
-            line(&self.design, 80, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
+        for (i, text) in lines.iter().enumerate() {
+            line(text, 54 + 26 * i as i32, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
         }
         let bar_width = 250;
         let (map_area, bar_area) = body.split_horizontally(w - bar_width);
@@ -321,7 +360,8 @@ impl FieldMap {
             f64::INFINITY,
             f64::NEG_INFINITY,
         );
-        for p in self.quads.iter().flatten().chain(&self.die_opening) {
+        let lines = self.outlines.iter().flat_map(|o| &o.points);
+        for p in self.quads.iter().flatten().chain(lines) {
             if p[0].is_finite() && p[1].is_finite() {
                 x0 = x0.min(p[0]);
                 x1 = x1.max(p[0]);
@@ -386,14 +426,18 @@ impl FieldMap {
                 PathElement::new(p, edge)
             }))
             .map_err(|e| err(&e))?;
-        if !self.die_opening.is_empty() {
-            let pts: Vec<(f64, f64)> = self.die_opening.iter().map(|p| (p[0], p[1])).collect();
+        for outline in &self.outlines {
+            let pts: Vec<(f64, f64)> = outline.points.iter().map(|p| (p[0], p[1])).collect();
+            let (dash, gap, colour) = match outline.style {
+                OutlineStyle::Dashed => (9, 6, RGBColor(90, 90, 90)),
+                OutlineStyle::Dotted => (3, 5, RGBColor(20, 20, 20)),
+            };
             chart
                 .draw_series(DashedLineSeries::new(
                     pts,
-                    9,
-                    6,
-                    ShapeStyle::from(RGBColor(90, 90, 90)).stroke_width(2),
+                    dash,
+                    gap,
+                    ShapeStyle::from(colour).stroke_width(2),
                 ))
                 .map_err(|e| err(&e))?;
         }
@@ -510,7 +554,7 @@ mod tests {
             unit: Unit::Degrees,
             max_at: None,
             peak: None,
-            die_opening: Vec::new(),
+            outlines: Vec::new(),
             size: (100, 100),
             scale_max: None,
         };
