@@ -9,6 +9,7 @@ pub mod figure6;
 pub mod fit;
 pub mod maps;
 pub mod mirror;
+pub mod panels;
 pub mod plot;
 pub mod sheet;
 pub mod summary;

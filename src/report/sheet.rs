@@ -7,7 +7,9 @@
 //! │ subtitle: the base scene, what is held fixed                                         │
 //! ├──────────────────────────────────────────┬───────────────────────────────────────────┤
 //! │ colour bar (one scale for every map),    │ chart: max shear against a swept radius,  │
-//! │ the locking angle marked                 │ the locking angle as a horizontal line    │
+//! │ the locking angle marked                 │ a small panel per combination of the      │
+//! │                                          │ other parameters, the locking angle in    │
+//! │                                          │ each (see `panels.rs`)                    │
 //! │ ┌──────┐ ┌──────┐ ┌──────┐               │                                           │
 //! │ │ map  │ │ map  │ │ map  │  each tile:   │                                           │
 //! │ └──────┘ └──────┘ └──────┘  parameters,  │                                           │
@@ -28,7 +30,8 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::maps::{OVER_LIMIT, colour_of, nice_step};
 use super::mirror::PlanQuad;
-use super::plot::{LineChart, register_fonts, tick_label};
+use super::panels::Panels;
+use super::plot::{register_fonts, tick_label};
 use crate::verdict::Verdict;
 
 impl Verdict {
@@ -84,8 +87,8 @@ pub struct Sheet {
     pub scale_max: f64,
     /// The locking angle, degrees (marked on the colour bar).
     pub limit: f64,
-    /// Max shear against a swept radius, with the locking angle drawn.
-    pub chart: Option<LineChart>,
+    /// Max shear against a swept radius in small multiples, the locking angle in each.
+    pub chart: Option<Panels>,
     /// Said under the chart (what the lines and markers are).
     pub chart_note: Vec<String>,
     /// Under the chart: the designs ranked (feasible first, then by max shear), one line each,
@@ -99,7 +102,6 @@ const MARGIN: i32 = 30;
 const TITLE_H: i32 = 40 + 2 * 8;
 const BAR_H: i32 = 120;
 const CHART_W: i32 = 1150;
-const CHART_H: i32 = 1000;
 
 /// Columns of the tile grid for `n` tiles: a square-ish grid, at most 6 wide (9 past 36).
 pub fn grid_columns(n: usize) -> usize {
@@ -115,6 +117,11 @@ impl Sheet {
         (w, w - 12, 80)
     }
 
+    /// The chart's height in pixels (0 without a chart: its note says why).
+    fn chart_height(&self) -> i32 {
+        self.chart.as_ref().map_or(0, |c| c.height(CHART_W))
+    }
+
     /// The picture's size in pixels.
     pub fn size(&self) -> (u32, u32) {
         let n = self.tiles.len().max(1);
@@ -124,8 +131,10 @@ impl Sheet {
         let grid_w = (cols * w).max(900);
         let grid_h = rows * (mh + lh + 14);
         let head = TITLE_H + 30 * self.subtitle.len() as i32 + 20;
-        let chart_h =
-            CHART_H + 26 * self.chart_note.len() as i32 + 40 + 27 * self.ranking.len() as i32;
+        let chart_h = self.chart_height()
+            + 26 * self.chart_note.len() as i32
+            + 40
+            + 27 * self.ranking.len() as i32;
         let width = MARGIN + grid_w + 50 + CHART_W + MARGIN;
         let height = head + (BAR_H + 36 + grid_h).max(chart_h) + MARGIN;
         (width as u32, height as u32)
@@ -189,10 +198,9 @@ impl Sheet {
         self.draw_tiles(root, MARGIN, grid_top, cols)?;
         let chart_x = MARGIN + grid_w + 50;
         if let Some(chart) = &self.chart {
-            let area = root.clone().shrink((chart_x, top), (CHART_W, CHART_H));
-            chart.draw_into(&area)?;
+            chart.draw(root, (chart_x, top), CHART_W)?;
         }
-        let mut y = top + CHART_H + 10;
+        let mut y = top + self.chart_height() + 10;
         for line in &self.chart_note {
             fit_text(
                 root,
