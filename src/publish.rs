@@ -74,7 +74,14 @@ pub fn sweep_report(
 }
 
 /// The files [`write_run`] writes into its folder.
-pub const RUN_FILES: [&str; 4] = ["summary.json", "shear.png", "tension.png", "result.vtu"];
+pub const RUN_FILES: [&str; 6] = [
+    "summary.json",
+    "shear.png",
+    "tension.png",
+    "shear_developed.png",
+    "tension_developed.png",
+    "result.vtu",
+];
 
 /// Makes `dir` ready for [`write_run`] before any solving: the folder created, writable, and
 /// none of the run's files in it a folder. Errors name the path and what is wrong.
@@ -95,8 +102,9 @@ pub fn prepare_run_dir(dir: &Path) -> Result<(), PublishError> {
     Ok(())
 }
 
-/// Writes `shear.png`, `tension.png`, `result.vtu` and `summary.json` into `dir` (created if
-/// needed), records them in `summary.files`, and returns their paths. Errors name the file.
+/// Writes `shear.png`, `tension.png`, their developed views (`shear_developed.png`,
+/// `tension_developed.png`: on the flat blank), `result.vtu` and `summary.json` into `dir`
+/// (created if needed), records them in `summary.files`, and returns their paths. Errors name the file.
 pub fn write_run(
     dir: &Path,
     summary: &mut RunSummary,
@@ -116,14 +124,30 @@ pub fn write_run(
     maps::shear_map(result, &ctx, summary.locking_angle_deg).write_png(&shear)?;
     let tension = dir.join("tension.png");
     maps::tension_map(result, &ctx, summary.break_tension_n).write_png(&tension)?;
+    let shear_flat = dir.join("shear_developed.png");
+    maps::shear_developed(result, &ctx, summary.locking_angle_deg).write_png(&shear_flat)?;
+    let tension_flat = dir.join("tension_developed.png");
+    maps::tension_developed(result, &ctx, summary.break_tension_n).write_png(&tension_flat)?;
     let vtu_path = dir.join("result.vtu");
     std::fs::write(&vtu_path, vtu_string(result)).map_err(io(&vtu_path, "write the VTU file"))?;
     let json = dir.join("summary.json");
-    let written = vec![json.clone(), shear, tension, vtu_path];
-    for (kind, path) in ["summary", "shear_map", "tension_map", "vtu"]
-        .iter()
-        .zip(&written)
-    {
+    let written = vec![
+        json.clone(),
+        shear,
+        tension,
+        shear_flat,
+        tension_flat,
+        vtu_path,
+    ];
+    let kinds = [
+        "summary",
+        "shear_map",
+        "tension_map",
+        "shear_developed_map",
+        "tension_developed_map",
+        "vtu",
+    ];
+    for (kind, path) in kinds.iter().zip(&written) {
         summary
             .files
             .insert(kind.to_string(), path.display().to_string());

@@ -83,7 +83,8 @@ pub struct RunSummary {
     pub mechanism: bool,
     /// Terms the scene did not need and that were not built.
     pub left_out: Vec<String>,
-    /// The files written, by kind (`summary`, `shear_map`, `tension_map`, `vtu`).
+    /// The files written, by kind (`summary`, `shear_map`, `tension_map`,
+    /// `shear_developed_map`, `tension_developed_map`, `vtu`).
     pub files: BTreeMap<String, String>,
     /// The scene as run (every key, defaults filled in).
     pub inputs: Scene,

@@ -310,7 +310,14 @@ fn run_text_names_units_and_files_in_the_default_folder() {
         assert!(out.contains(word), "no `{word}` in:\n{out}");
     }
     let folder: PathBuf = ["out", "hemisphere"].iter().collect();
-    for name in ["summary.json", "shear.png", "tension.png", "result.vtu"] {
+    for name in [
+        "summary.json",
+        "shear.png",
+        "tension.png",
+        "shear_developed.png",
+        "tension_developed.png",
+        "result.vtu",
+    ] {
         let path = folder.join(name);
         assert!(out.contains(path.to_str().unwrap()), "{name} not printed");
         assert!(dir.path().join(&path).is_file(), "{name} not written");

@@ -37,7 +37,8 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Draw one scene: solve, print a summary (or one JSON object with --json) and write
-    /// summary.json, shear.png, tension.png and result.vtu into --out.
+    /// summary.json, shear.png, tension.png (seen from above), shear_developed.png and
+    /// tension_developed.png (on the flat blank) and result.vtu into --out.
     Run(run::RunArgs),
     /// Run a grid of designs in parallel: results.csv (a row as each design finishes),
     /// results.json, maps/<design>.png on one colour scale, report.png and a feasibility table.

@@ -167,7 +167,7 @@ pub fn shear_map(problem: &BiasProblem, result: &BiasResult, locking_angle_deg: 
         unit: Unit::Degrees,
         max_at: centre,
         peak: Some(max),
-        die_opening: Vec::new(),
+        outlines: Vec::new(),
         size: (1100, 700),
         scale_max: None,
     }

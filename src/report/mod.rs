@@ -2,12 +2,15 @@
 //! maps, VTU file and summary of a drawing run; the report sheet of a design sweep.
 pub mod bench;
 pub mod bias;
+pub mod canvas;
+pub mod contour;
 pub mod converge;
 pub mod error;
 pub mod figure6;
 pub mod fit;
 pub mod maps;
 pub mod mirror;
+pub mod panels;
 pub mod plot;
 pub mod sheet;
 pub mod summary;

@@ -11,6 +11,7 @@
 //! chart.write_png(std::path::Path::new("out/chart.png")).unwrap();
 //! ```
 
+use super::canvas::{Area, Canvas};
 use super::error::DrawError;
 use std::path::Path;
 use std::sync::Once;
@@ -221,7 +222,7 @@ impl LineChart {
     pub fn write_png(&self, path: &Path) -> Result<(), DrawError> {
         register_fonts();
         let fail = DrawError::at(path, "chart");
-        let root = BitMapBackend::new(path, self.size).into_drawing_area();
+        let root = Canvas::new(path, self.size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
         self.draw_into(&root).map_err(|e| fail(&e))?;
         root.present().map_err(|e| fail(&e))?;
@@ -230,10 +231,7 @@ impl LineChart {
 
     /// Draws the chart into a part of a larger picture (a report sheet); `self.size` is not
     /// used, the chart fills `area`. The caller presents the picture.
-    pub fn draw_into(
-        &self,
-        area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
-    ) -> Result<(), String> {
+    pub fn draw_into(&self, area: &Area<'_>) -> Result<(), String> {
         register_fonts();
         let ((x0, x1), (y0, y1)) = self.ranges();
         match (self.x_scale, self.y_scale) {
@@ -246,12 +244,7 @@ impl LineChart {
         }
     }
 
-    fn draw_on<X, Y>(
-        &self,
-        root: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
-        x_spec: X,
-        y_spec: Y,
-    ) -> Result<(), String>
+    fn draw_on<X, Y>(&self, root: &Area<'_>, x_spec: X, y_spec: Y) -> Result<(), String>
     where
         X: AsRangedCoord<Value = f64>,
         Y: AsRangedCoord<Value = f64>,

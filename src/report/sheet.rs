@@ -7,7 +7,9 @@
 //! │ subtitle: the base scene, what is held fixed                                         │
 //! ├──────────────────────────────────────────┬───────────────────────────────────────────┤
 //! │ colour bar (one scale for every map),    │ chart: max shear against a swept radius,  │
-//! │ the locking angle marked                 │ the locking angle as a horizontal line    │
+//! │ the locking angle marked                 │ a small panel per combination of the      │
+//! │                                          │ other parameters, the locking angle in    │
+//! │                                          │ each (see `panels.rs`)                    │
 //! │ ┌──────┐ ┌──────┐ ┌──────┐               │                                           │
 //! │ │ map  │ │ map  │ │ map  │  each tile:   │                                           │
 //! │ └──────┘ └──────┘ └──────┘  parameters,  │                                           │
@@ -26,9 +28,10 @@ use std::path::Path;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::maps::{OVER_LIMIT, colour_of};
+use super::maps::{OVER_LIMIT, colour_of, nice_step};
 use super::mirror::PlanQuad;
-use super::plot::{LineChart, register_fonts, tick_label};
+use super::panels::Panels;
+use super::plot::{register_fonts, tick_label};
 use crate::verdict::Verdict;
 
 impl Verdict {
@@ -84,8 +87,8 @@ pub struct Sheet {
     pub scale_max: f64,
     /// The locking angle, degrees (marked on the colour bar).
     pub limit: f64,
-    /// Max shear against a swept radius, with the locking angle drawn.
-    pub chart: Option<LineChart>,
+    /// Max shear against a swept radius in small multiples, the locking angle in each.
+    pub chart: Option<Panels>,
     /// Said under the chart (what the lines and markers are).
     pub chart_note: Vec<String>,
     /// Under the chart: the designs ranked (feasible first, then by max shear), one line each,
@@ -93,13 +96,12 @@ pub struct Sheet {
     pub ranking: Vec<(Option<Verdict>, String)>,
 }
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+use super::canvas::{Area, Canvas};
 
 const MARGIN: i32 = 30;
 const TITLE_H: i32 = 40 + 2 * 8;
 const BAR_H: i32 = 120;
 const CHART_W: i32 = 1150;
-const CHART_H: i32 = 1000;
 
 /// Columns of the tile grid for `n` tiles: a square-ish grid, at most 6 wide (9 past 36).
 pub fn grid_columns(n: usize) -> usize {
@@ -115,6 +117,11 @@ impl Sheet {
         (w, w - 12, 80)
     }
 
+    /// The chart's height in pixels (0 without a chart: its note says why).
+    fn chart_height(&self) -> i32 {
+        self.chart.as_ref().map_or(0, |c| c.height(CHART_W))
+    }
+
     /// The picture's size in pixels.
     pub fn size(&self) -> (u32, u32) {
         let n = self.tiles.len().max(1);
@@ -124,8 +131,10 @@ impl Sheet {
         let grid_w = (cols * w).max(900);
         let grid_h = rows * (mh + lh + 14);
         let head = TITLE_H + 30 * self.subtitle.len() as i32 + 20;
-        let chart_h =
-            CHART_H + 26 * self.chart_note.len() as i32 + 40 + 27 * self.ranking.len() as i32;
+        let chart_h = self.chart_height()
+            + 26 * self.chart_note.len() as i32
+            + 40
+            + 27 * self.ranking.len() as i32;
         let width = MARGIN + grid_w + 50 + CHART_W + MARGIN;
         let height = head + (BAR_H + 36 + grid_h).max(chart_h) + MARGIN;
         (width as u32, height as u32)
@@ -136,7 +145,7 @@ impl Sheet {
         register_fonts();
         let fail = DrawError::at(path, "sheet");
         let size = self.size();
-        let root = BitMapBackend::new(path, size).into_drawing_area();
+        let root = Canvas::new(path, size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
         self.draw(&root, size).map_err(|e| fail(&e))?;
         root.present().map_err(|e| fail(&e))?;
@@ -189,10 +198,9 @@ impl Sheet {
         self.draw_tiles(root, MARGIN, grid_top, cols)?;
         let chart_x = MARGIN + grid_w + 50;
         if let Some(chart) = &self.chart {
-            let area = root.clone().shrink((chart_x, top), (CHART_W, CHART_H));
-            chart.draw_into(&area)?;
+            chart.draw(root, (chart_x, top), CHART_W)?;
         }
-        let mut y = top + CHART_H + 10;
+        let mut y = top + self.chart_height() + 10;
         for line in &self.chart_note {
             fit_text(
                 root,
@@ -272,13 +280,14 @@ impl Sheet {
         let mut v = 0.0;
         while v <= top + 1e-9 {
             let p = px(v);
+            // Clear of the bar: a gap, the tick, a gap, the label.
             root.draw(&PathElement::new(
-                vec![(p, y1), (p, y1 + 6)],
+                vec![(p, y1 + 5), (p, y1 + 11)],
                 ShapeStyle::from(BLACK).stroke_width(1),
             ))
             .map_err(|e| err(&e))?;
             if (p - px(self.limit)).abs() > 28 {
-                root.draw(&Text::new(tick_label(v), (p, y1 + 9), label.clone()))
+                root.draw(&Text::new(tick_label(v), (p, y1 + 19), label.clone()))
                     .map_err(|e| err(&e))?;
             }
             v += step;
@@ -302,7 +311,7 @@ impl Sheet {
         .map_err(|e| err(&e))?;
         root.draw(&Text::new(
             format!("{}°", tick_label(self.limit)),
-            (pl, y1 + 9),
+            (pl, y1 + 19),
             (font, 17)
                 .into_font()
                 .style(FontStyle::Bold)
@@ -324,7 +333,7 @@ impl Sheet {
         }
         root.draw(&Text::new(
             "one colour scale for every map of the sweep",
-            (x0, y1 + 34),
+            (x0, y1 + 44),
             (font, 17)
                 .into_font()
                 .color(&RGBColor(70, 70, 70))
@@ -520,19 +529,6 @@ fn fit_text(
     }
     root.draw(&Text::new(text.to_string(), at, style_at(size)))
         .map_err(|e| e.to_string())
-}
-
-/// 1, 2 or 5 times a power of ten, at least `raw`.
-fn nice_step(raw: f64) -> f64 {
-    if !(raw > 0.0 && raw.is_finite()) {
-        return 1.0;
-    }
-    let p = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * p)
-        .find(|&s| s >= raw)
-        .unwrap_or(10.0 * p)
 }
 
 /// Splits text into lines of at most `width` characters at spaces.

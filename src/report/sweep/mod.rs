@@ -11,7 +11,7 @@ pub use json::results_json;
 pub use sheet::{SHEET_TILES, sheet};
 pub use table::{ranked, table};
 
-use super::maps::{FieldMap, Unit};
+use super::maps::{FieldMap, Outline, Unit};
 use super::mirror::{PlanQuad, mirror_quads};
 use crate::study::sweep::{Design, Plan, Row, StoredField};
 
@@ -78,7 +78,7 @@ pub fn field_map(field: &StoredField, label: &str, scale_max: f64) -> FieldMap {
         unit: Unit::Degrees,
         max_at: field.max_at,
         peak: Some(field.max_shear_deg),
-        die_opening: field.die_opening.clone(),
+        outlines: vec![Outline::dashed(field.die_opening.clone())],
         size: (1100, 900),
         scale_max: Some(scale_max),
     }

@@ -54,9 +54,10 @@ fn title(plan: &Plan, rows: &[Row]) -> String {
         tally.push(format!("{missing} not computed"));
     }
     format!(
-        "Sweep {}: {} designs — {}",
+        "Sweep {}: {} design{} — {}",
         plan.name(),
         plan.len(),
+        crate::report::plural(plan.len()),
         tally.join(", ")
     )
 }
@@ -120,7 +121,11 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
         ),
         format!(
             "Swept: {}{}",
-            swept.join("; "),
+            if swept.is_empty() {
+                "nothing".to_string()
+            } else {
+                swept.join("; ")
+            },
             if fixed.is_empty() {
                 String::new()
             } else {

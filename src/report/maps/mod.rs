@@ -8,12 +8,19 @@
 //! cells over the limit are outlined in black, so they cannot be missed. The colour bar marks
 //! the limit with a line and its value; the die opening is drawn dashed.
 
+mod bar;
+mod developed;
+
+pub use bar::nice_step;
+pub use developed::{FullBlank, MaterialLine, shear_developed, tension_developed};
+
 use super::error::DrawError;
 use std::path::Path;
 
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use super::canvas::text_width;
 use super::mirror::{PlanQuad, mirror_quads};
 use super::plot::{register_fonts, tick_label};
 use crate::core::drawing::{DrawingResult, Tooling};
@@ -64,7 +71,7 @@ pub fn colour_on(value: f64, limit: f64, span: f64) -> (u8, u8, u8) {
 pub struct FieldMap {
     /// First title line (scene, figure, verdict).
     pub title: String,
-    /// Second title line (what is shown).
+    /// Second title line (what is shown); a line break starts another line.
     pub subtitle: String,
     /// Third title line: the design (tools, friction, pressure, mesh); empty: none.
     pub design: String,
@@ -87,13 +94,45 @@ pub struct FieldMap {
     /// The peak over a woven cell there (the figure the verdict uses), for the marker's label;
     /// the colour bar marks the largest element value.
     pub peak: Option<f64>,
-    /// The die opening in plan, a closed polyline (mm); empty for none.
-    pub die_opening: Vec<[f64; 2]>,
+    /// Lines drawn over the field (mm): the die opening, dashed, on a top view; the material
+    /// that ends at the die-opening edge or the punch's nose on the flat blank.
+    pub outlines: Vec<Outline>,
     /// Image size in pixels.
     pub size: (u32, u32),
     /// The top of the colour scale, when several maps share one (a sweep); `None`: a little
     /// past the limit, or the largest value (see [`FieldMap::scale_top`]).
     pub scale_max: Option<f64>,
+}
+
+/// A line drawn over a map, a polyline in plan (mm).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outline {
+    pub points: Vec<[f64; 2]>,
+    pub style: OutlineStyle,
+}
+
+/// How an [`Outline`] is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutlineStyle {
+    /// Long grey dashes (the die opening).
+    Dashed,
+    /// Short black dashes (the punch).
+    Dotted,
+}
+
+impl Outline {
+    pub fn dashed(points: Vec<[f64; 2]>) -> Self {
+        Outline {
+            points,
+            style: OutlineStyle::Dashed,
+        }
+    }
+    pub fn dotted(points: Vec<[f64; 2]>) -> Self {
+        Outline {
+            points,
+            style: OutlineStyle::Dotted,
+        }
+    }
 }
 
 /// How values are written on a map.
@@ -176,7 +215,7 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
         unit: Unit::Degrees,
         max_at: (!result.shear_deg.is_empty()).then_some([c[0], c[1]]),
         peak: Some(max),
-        die_opening: die_opening_outline(&ctx.tooling),
+        outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
         size: (1100, 900),
         scale_max: None,
     }
@@ -207,7 +246,7 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
         unit: Unit::Newtons,
         max_at: (max > 0.0).then_some([c[0], c[1]]),
         peak: Some(max),
-        die_opening: die_opening_outline(&ctx.tooling),
+        outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
         size: (1100, 900),
         scale_max: None,
     }
@@ -218,7 +257,7 @@ pub fn die_opening_outline(tooling: &Tooling) -> Vec<[f64; 2]> {
     tooling.die_opening_outline()
 }
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+use super::canvas::{Area, Canvas};
 
 impl FieldMap {
     /// The top of the colour scale: the shared one when given ([`FieldMap::scale_max`]), else
@@ -262,7 +301,7 @@ impl FieldMap {
     pub fn write_png(&self, path: &Path) -> Result<(), DrawError> {
         register_fonts();
         let fail = DrawError::at(path, "map");
-        let root = BitMapBackend::new(path, self.size).into_drawing_area();
+        let root = Canvas::new(path, self.size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
         self.draw(&root).map_err(|e| fail(&e))?;
         root.present().map_err(|e| fail(&e))?;
@@ -273,7 +312,13 @@ impl FieldMap {
         let err = |e: &dyn std::fmt::Display| e.to_string();
         let font = "sans-serif";
         let (w, _) = self.size;
-        let head = if self.design.is_empty() { 86 } else { 108 };
+        // The title, then the subtitle's lines and the design's, 26 px apart.
+        let lines: Vec<&str> = self
+            .subtitle
+            .lines()
+            .chain((!self.design.is_empty()).then_some(self.design.as_str()))
+            .collect();
+        let head = 60 + 26 * lines.len().max(1) as u32;
         let (top, body) = root.split_vertically(head);
         // Each title line at the largest size (up to its nominal one) that fits the width.
         let line = |text: &str, y: i32, size: u32, bold: bool, colour: RGBColor| {
@@ -296,9 +341,8 @@ impl FieldMap {
             ))
         };
         line(&self.title, 14, 26, true, BLACK).map_err(|e| err(&e))?;
-        line(&self.subtitle, 54, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
-        if !self.design.is_empty() {
-            line(&self.design, 80, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
+        for (i, text) in lines.iter().enumerate() {
+            line(text, 54 + 26 * i as i32, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
         }
         let bar_width = 250;
         let (map_area, bar_area) = body.split_horizontally(w - bar_width);
@@ -316,7 +360,8 @@ impl FieldMap {
             f64::INFINITY,
             f64::NEG_INFINITY,
         );
-        for p in self.quads.iter().flatten().chain(&self.die_opening) {
+        let lines = self.outlines.iter().flat_map(|o| &o.points);
+        for p in self.quads.iter().flatten().chain(lines) {
             if p[0].is_finite() && p[1].is_finite() {
                 x0 = x0.min(p[0]);
                 x1 = x1.max(p[0]);
@@ -381,14 +426,18 @@ impl FieldMap {
                 PathElement::new(p, edge)
             }))
             .map_err(|e| err(&e))?;
-        if !self.die_opening.is_empty() {
-            let pts: Vec<(f64, f64)> = self.die_opening.iter().map(|p| (p[0], p[1])).collect();
+        for outline in &self.outlines {
+            let pts: Vec<(f64, f64)> = outline.points.iter().map(|p| (p[0], p[1])).collect();
+            let (dash, gap, colour) = match outline.style {
+                OutlineStyle::Dashed => (9, 6, RGBColor(90, 90, 90)),
+                OutlineStyle::Dotted => (3, 5, RGBColor(20, 20, 20)),
+            };
             chart
                 .draw_series(DashedLineSeries::new(
                     pts,
-                    9,
-                    6,
-                    ShapeStyle::from(RGBColor(90, 90, 90)).stroke_width(2),
+                    dash,
+                    gap,
+                    ShapeStyle::from(colour).stroke_width(2),
                 ))
                 .map_err(|e| err(&e))?;
         }
@@ -417,13 +466,14 @@ impl FieldMap {
                         .show(self.values.iter().cloned().fold(0.0, f64::max))
                 ),
             };
+            let width = text_width(&label, 18.0, FontStyle::Bold).ceil() as i32;
             let style = ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3);
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at((at[0], at[1]))
                         + Circle::new((0, 0), 9, style)
                         + Rectangle::new(
-                            [(10, -29), (16 + 11 * label.chars().count() as i32, -5)],
+                            [(8, -29), (16 + width, -5)],
                             ShapeStyle::from(WHITE.mix(0.85)).filled(),
                         )
                         + Text::new(
@@ -436,126 +486,6 @@ impl FieldMap {
         }
         let (_, rows) = chart.plotting_area().get_pixel_range();
         Ok((rows.start, rows.end))
-    }
-
-    /// The colour bar, aligned with the map's plot rows; the limit marked with a line.
-    fn draw_bar(&self, root: &Area, area: &Area, rows: (i32, i32)) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
-        let font = "sans-serif";
-        let top = self.scale_top();
-        let (area_rows, _) = (area.get_pixel_range().1, ());
-        let margin_top = (rows.0 - area_rows.start).max(0) as u32;
-        let margin_bottom = (area_rows.end - rows.1).max(0) as u32;
-        let mut chart = ChartBuilder::on(area)
-            .margin_top(margin_top)
-            .margin_bottom(margin_bottom)
-            .margin_left(10)
-            .margin_right(150)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..1.0, 0.0..top)
-            .map_err(|e| err(&e))?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .label_style((font, 16))
-            .y_label_formatter(&|v| tick_label(*v))
-            .y_labels(8)
-            .draw()
-            .map_err(|e| err(&e))?;
-        const BANDS: usize = 300;
-        let rgb = |c: (u8, u8, u8)| RGBColor(c.0, c.1, c.2);
-        let span = self.colour_span();
-        chart
-            .draw_series((0..BANDS).map(|i| {
-                let (a, b) = (
-                    top * i as f64 / BANDS as f64,
-                    top * (i + 1) as f64 / BANDS as f64,
-                );
-                let v = 0.5 * (a + b);
-                let c = colour_on(v, self.limit, span);
-                Rectangle::new([(0.0, a), (1.0, b)], rgb(c).filled())
-            }))
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(std::iter::once(Rectangle::new(
-                [(0.0, 0.0), (1.0, top)],
-                ShapeStyle::from(BLACK).stroke_width(1),
-            )))
-            .map_err(|e| err(&e))?;
-        let (x0, _) = chart.backend_coord(&(0.0, 0.0));
-        let (x1, _) = chart.backend_coord(&(1.0, 0.0));
-        let text = |s: String, y: i32, bold: bool| {
-            let f = (font, 17).into_font();
-            let f = if bold { f.style(FontStyle::Bold) } else { f };
-            Text::new(
-                s,
-                (x1 + 16, y),
-                f.color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center)),
-            )
-        };
-        let (_, y_top) = chart.backend_coord(&(1.0, top));
-        let y_limit = if self.limit_off_scale() {
-            // The field stays under its limit: name the limit above the scale.
-            root.draw(&text(self.limit_name.clone(), y_top + 10, true))
-                .map_err(|e| err(&e))?;
-            root.draw(&text(
-                format!("{}, above", self.unit.show(self.limit)),
-                y_top + 31,
-                true,
-            ))
-            .map_err(|e| err(&e))?;
-            root.draw(&text("this scale".into(), y_top + 52, true))
-                .map_err(|e| err(&e))?;
-            y_top + 40
-        } else {
-            // The limit: a thick line across the bar and beyond, with its name and value.
-            let (_, y_limit) = chart.backend_coord(&(0.0, self.limit));
-            let line = ShapeStyle::from(BLACK).stroke_width(3);
-            root.draw(&PathElement::new(
-                vec![(x0 - 8, y_limit), (x1 + 12, y_limit)],
-                line,
-            ))
-            .map_err(|e| err(&e))?;
-            root.draw(&text(self.limit_name.clone(), y_limit + 14, true))
-                .map_err(|e| err(&e))?;
-            root.draw(&text(self.unit.show(self.limit), y_limit + 35, true))
-                .map_err(|e| err(&e))?;
-            // Over the limit: say what the magenta means.
-            if y_limit - y_top > 24 {
-                root.draw(&text("over the limit".into(), (y_top + y_limit) / 2, false))
-                    .map_err(|e| err(&e))?;
-            }
-            y_limit
-        };
-        // The largest value, unless it would sit on the limit's label.
-        let max = self.values.iter().cloned().fold(0.0, f64::max);
-        let (_, y_max) = chart.backend_coord(&(1.0, max.min(top)));
-        // On the bar's left, clear of the limit's line, which runs out to the right.
-        root.draw(&PathElement::new(
-            vec![(x0 - 14, y_max), (x0 + 4, y_max)],
-            ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3),
-        ))
-        .map_err(|e| err(&e))?;
-        if y_max < y_limit - 24 || y_max > y_limit + 50 {
-            root.draw(&text(
-                format!("element {}", self.unit.show(max)),
-                y_max,
-                false,
-            ))
-            .map_err(|e| err(&e))?;
-        }
-        // The caption above the bar.
-        root.draw(&Text::new(
-            self.bar_caption.clone(),
-            ((x0 + x1) / 2, y_top - 12),
-            (font, 18)
-                .into_font()
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Bottom)),
-        ))
-        .map_err(|e| err(&e))?;
-        Ok(())
     }
 }
 
@@ -624,7 +554,7 @@ mod tests {
             unit: Unit::Degrees,
             max_at: None,
             peak: None,
-            die_opening: Vec::new(),
+            outlines: Vec::new(),
             size: (100, 100),
             scale_max: None,
         };
