@@ -21,12 +21,46 @@ pub struct FitArgs {
     /// Folder for fit.png (default: the folder of DATA.csv).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Fit the shear law to a bias-extension curve instead (DATA.csv with header
+    /// displacement_mm,force_n) of a specimen H mm long and W mm wide, e.g. 230x115; writes
+    /// fabric.toml, bias.csv, bias.png and shear.png into --out.
+    #[arg(long, value_name = "HxW", value_parser = super::fit_bias::parse_specimen)]
+    pub bias: Option<[f64; 2]>,
+    /// With --bias: the points fitted, up to this ideal central shear, degrees (default: the
+    /// scene's locking angle).
+    #[arg(long, value_name = "DEG")]
+    pub max_shear: Option<f64>,
+    /// With --bias: the points fitted from this grip displacement on, mm (a measured curve's
+    /// initial rise is a moment at zero shear that the polynomial does not have).
+    #[arg(long = "from", default_value_t = 3.0, value_name = "MM")]
+    pub from_mm: f64,
+    /// With --bias: refining passes on the finite-element test.
+    #[arg(long, default_value_t = 2, value_name = "N")]
+    pub refine: usize,
+    /// With --bias: element size of the finite-element test, mm.
+    #[arg(long, default_value_t = 5.0, value_name = "MM")]
+    pub element_size: f64,
     #[command(flatten)]
     pub scene: SceneArgs,
 }
 
 pub fn exec(args: FitArgs) -> Result<(), CliError> {
     let scene = args.scene.load()?;
+    if let Some(specimen) = args.bias {
+        return super::fit_bias::exec(
+            &scene,
+            super::fit_bias::BiasFitArgs {
+                data: &args.data,
+                specimen,
+                max_shear_deg: args.max_shear,
+                from_mm: args.from_mm,
+                refine: args.refine,
+                element_size: args.element_size,
+                out: args.out.clone(),
+                scene_file: args.scene.scene.clone(),
+            },
+        );
+    }
     let samples =
         fitting::read_samples(&args.data).map_err(|e| CliError::bad_input(e.to_string()))?;
     let options = FitOptions {

@@ -10,6 +10,7 @@ mod bias;
 mod converge;
 mod error;
 mod fit;
+mod fit_bias;
 mod law;
 mod merge;
 mod progress;

@@ -27,6 +27,14 @@ impl ShearLaw {
         g * (self.k[0] + g2 * (self.k[1] + g2 * self.k[2]))
     }
 
+    /// Whether the moment rises from 0 to 90° (finite, k1 ≥ 0, dM/dγ ≥ 0 on a 1° grid): a
+    /// law that softens somewhere has no unique answer.
+    pub fn rises(&self) -> bool {
+        self.k.iter().all(|v| v.is_finite())
+            && self.k[0] >= 0.0
+            && (0..=90).all(|d| self.stiffness((d as f64).to_radians()) >= 0.0)
+    }
+
     /// `dM/dγ`, N·mm/mm² per radian.
     pub fn stiffness(&self, g: f64) -> f64 {
         let g2 = g * g;

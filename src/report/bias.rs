@@ -89,10 +89,10 @@ pub fn force_chart(
     )
     .with(Series::line(
         format!(
-            "finite elements, M = {k1}γ + {k3}γ³ + {k5}γ⁵ N·mm/mm²",
+            "finite elements, M = {k1}γ {k3}γ³ {k5}γ⁵ N·mm/mm²",
             k1 = fmt(k[0]),
-            k3 = fmt(k[1]),
-            k5 = fmt(k[2])
+            k3 = signed(k[1]),
+            k5 = signed(k[2])
         ),
         fe,
         Colour::nth(0),
@@ -112,7 +112,16 @@ pub fn force_chart(
     chart
 }
 
-/// A coefficient in four significant figures.
+/// A later coefficient with its sign as the operator: `+ 0.08`, `− 0.0786`.
+fn signed(v: f64) -> String {
+    if v < 0.0 {
+        format!("− {}", fmt(-v))
+    } else {
+        format!("+ {}", fmt(v))
+    }
+}
+
+/// A coefficient in four decimals.
 fn fmt(v: f64) -> String {
     if v == 0.0 {
         "0".into()

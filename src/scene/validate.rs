@@ -128,7 +128,7 @@ impl Scene {
             broken("fabric.break_tension_n", Num(f.break_tension_n), what)
         })?;
         if let Some(k) = f.shear_moment {
-            ok_if(shear_law_holds(k), || {
+            ok_if(crate::core::shear::ShearLaw { k }.rises(), || {
                 broken(
                     "fabric.shear_moment",
                     format!("[{}, {}, {}]", Num(k[0]), Num(k[1]), Num(k[2])),
@@ -327,15 +327,6 @@ impl Scene {
             broken("numerics.penalty_factor", Num(n.penalty_factor), what)
         })
     }
-}
-
-/// A shear law `[k1, k3, k5]` that stiffens or holds: finite, k1 ≥ 0, and `dM/dγ ≥ 0` from 0
-/// to 90° (checked on a fine grid of γ).
-fn shear_law_holds(k: [f64; 3]) -> bool {
-    let law = crate::core::shear::ShearLaw { k };
-    k.iter().all(|v| v.is_finite())
-        && k[0] >= 0.0
-        && (0..=90).all(|d| law.stiffness((d as f64).to_radians()) >= 0.0)
 }
 
 #[cfg(test)]

@@ -108,6 +108,9 @@ pub struct BiasSpecimen {
     pub width: f64,
     /// Points whose ideal central shear is above this are left out, degrees.
     pub max_shear_deg: f64,
+    /// Points below this grip displacement are left out, mm (the initial rise of a measured
+    /// curve, a moment at zero shear that no polynomial through 0 follows).
+    pub from_mm: f64,
 }
 
 /// A fitted shear law and how well it is known.
@@ -119,7 +122,7 @@ pub struct ShearFit {
     pub rms_rel: f64,
     pub rms_n: f64,
     /// Each coefficient's standard uncertainty relative to its value (∞ when it is 0), and
-    /// whether it sits on its bound (0).
+    /// whether it was held at 0 (freeing it made the moment fall somewhere).
     pub rel_uncertainty: [f64; 3],
     pub at_bound: [bool; 3],
 }
@@ -145,7 +148,12 @@ pub fn fit_points(s: &BiasSpecimen, points: &[BiasPoint]) -> Vec<BiasPoint> {
     points
         .iter()
         .copied()
-        .filter(|p| p.force_n > 0.0 && p.displacement_mm > 0.0 && p.displacement_mm < limit)
+        .filter(|p| {
+            p.force_n > 0.0
+                && p.displacement_mm > 0.0
+                && p.displacement_mm >= s.from_mm
+                && p.displacement_mm < limit
+        })
         .filter(|p| {
             crate::core::bias::ideal_shear(s.length, s.width, p.displacement_mm).to_degrees()
                 <= s.max_shear_deg
@@ -153,8 +161,10 @@ pub fn fit_points(s: &BiasSpecimen, points: &[BiasPoint]) -> Vec<BiasPoint> {
         .collect()
 }
 
-/// Fits `k ≥ 0` to `points` with the measured force divided by `ratio(d)` (1 for the ideal
-/// kinematics; the finite-element force over the ideal one when refining).
+/// Fits `k` to `points` with the measured force divided by `ratio(d)` (1 for the ideal
+/// kinematics; the finite-element force over the ideal one when refining): the best law
+/// whose moment rises from 0 to 90° (k1 ≥ 0, dM/dγ ≥ 0), over every choice of the
+/// coefficients left free (the others at 0).
 pub fn fit_shear_law(
     s: &BiasSpecimen,
     points: &[BiasPoint],
@@ -171,19 +181,19 @@ pub fn fit_shear_law(
             (phi.map(|v| v / p.force_n), 1.0)
         })
         .collect();
-    // Every subset of free coefficients (the rest at 0): the best with all k ≥ 0.
+    // Every subset of free coefficients (the rest at 0): the best law that rises.
     let mut best: Option<([f64; 3], f64, [bool; 3])> = None;
     for mask in 1..8u8 {
         let free: Vec<usize> = (0..3).filter(|j| mask & (1 << j) != 0).collect();
         let Some(k_free) = least_squares(&rows, &free) else {
             continue;
         };
-        if k_free.iter().any(|v| *v < 0.0) {
-            continue;
-        }
         let mut k = [0.0; 3];
         for (i, &j) in free.iter().enumerate() {
             k[j] = k_free[i];
+        }
+        if !(ShearLaw { k }).rises() {
+            continue;
         }
         let sse: f64 = rows
             .iter()
@@ -201,8 +211,8 @@ pub fn fit_shear_law(
     let mut rel_uncertainty = [f64::INFINITY; 3];
     if let Some(cov) = normal_inverse(&rows, &free) {
         for (i, &j) in free.iter().enumerate() {
-            if k[j] > 0.0 {
-                rel_uncertainty[j] = (sigma2 * cov[i][i]).sqrt() / k[j];
+            if k[j] != 0.0 {
+                rel_uncertainty[j] = (sigma2 * cov[i][i]).sqrt() / k[j].abs();
             }
         }
     }
@@ -317,6 +327,7 @@ mod tests {
             length: 230.0,
             width: 115.0,
             max_shear_deg: 70.0,
+            from_mm: 0.0,
         };
         let truth = ShearLaw {
             k: [0.05, 0.02, 0.4],
