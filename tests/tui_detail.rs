@@ -216,7 +216,7 @@ fn the_design_files_worker_writes_what_run_writes() {
         Message::Written { design, result } => {
             assert_eq!(design, "d");
             let files = result.expect("written");
-            assert_eq!(files.len(), 4);
+            assert_eq!(files.len(), wovenform::publish::RUN_FILES.len());
             for f in &files {
                 assert!(
                     f.starts_with(&dir) && f.metadata().unwrap().len() > 100,
