@@ -255,7 +255,14 @@ impl BiasProblem {
                     *u += u_now[i] - before[i];
                 }
             }
-            let mut solved = solve_segment(&mut model, &options, &segment, &mut result);
+            // The first segment starts with every yarn on the law's slack/taut kink, where the
+            // active set chatters (thousands of yarns flip per iteration): it may need many
+            // small steps before the yarns settle.
+            let mut first = options.clone();
+            if k == 1 {
+                first.max_steps = first.max_steps.max(5000);
+            }
+            let mut solved = solve_segment(&mut model, &first, &segment, &mut result);
             if solved.is_err() && u_before.is_some() {
                 model.u = u_now.clone();
                 model.crimp = crimp_now;
