@@ -32,7 +32,7 @@ fn problem(c: f64, undulation: bool, k: [f64; 3]) -> BiasProblem {
     fabric.undulation = undulation;
     BiasProblem {
         fabric,
-        shear: Some(ShearLaw { k }),
+        shear: Some(ShearLaw::new(k)),
         length: 120.0,
         width: 60.0,
         stroke: 20.0,

@@ -241,3 +241,24 @@ fn a_mesh_too_large_for_the_machine_is_refused_before_any_allocation() {
         &["--set blank.size=1e6", "of memory", "on this machine"],
     );
 }
+
+#[test]
+fn shear_law_bounds() {
+    let open = preset("paper-box-open.toml");
+    // A moment that falls past some angle (k3 strongly negative) has no unique answer.
+    assert_rejected(
+        &open,
+        &["--set", "fabric.shear_moment=[0.05, -1.0, 0.0]"],
+        &["fabric.shear_moment", "rising"],
+    );
+    assert_rejected(
+        &open,
+        &["--set", "fabric.shear_moment=[-0.01, 0.0, 0.0]"],
+        &["fabric.shear_moment", "k1 ≥ 0"],
+    );
+    assert_rejected(
+        &open,
+        &["--set", "fabric.shear_locking=true"],
+        &["fabric.shear_locking", "fabric.shear_moment"],
+    );
+}

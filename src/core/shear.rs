@@ -8,23 +8,67 @@
 //! `cos θ = f1·f2 / (|f1| |f2|)` and `γ = θ0 − θ`. [`shear_kinematics`] gives γ with its
 //! gradient and Hessian in `(f1, f2)`; the element chains them to the nodes.
 
-/// The shear law: the polynomial's coefficients `[k1, k3, k5]`, N/mm.
+/// The shear law: the polynomial's coefficients `[k1, k3, k5]`, N/mm, and optionally its
+/// stiffening past the locking angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShearLaw {
     pub k: [f64; 3],
+    pub locking: Option<Locking>,
+}
+
+/// Locking as a stiffening (beyond the benchmark's polynomial): past `gamma_rad` the moment
+/// gains `k_lock (|γ| − γL)²` (sign of γ), its energy `k_lock (|γ| − γL)³ / 3`. The moment and
+/// its slope are continuous at γL; `k_lock` (N·mm/mm² per rad²) is set so that 5° past γL the
+/// slope is 20 times the polynomial's slope at γL (at least k1's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Locking {
+    pub gamma_rad: f64,
+    pub k_lock: f64,
 }
 
 impl ShearLaw {
+    /// The polynomial law alone.
+    pub const fn new(k: [f64; 3]) -> Self {
+        ShearLaw { k, locking: None }
+    }
+
+    /// The same law stiffening past `locking_deg` (see [`Locking`]).
+    pub fn with_locking(mut self, locking_deg: f64) -> Self {
+        let gamma = locking_deg.to_radians();
+        let slope = self.polynomial_stiffness(gamma).max(self.k[0]).max(1e-6);
+        self.locking = Some(Locking {
+            gamma_rad: gamma,
+            k_lock: 20.0 * slope / (2.0 * 5f64.to_radians()),
+        });
+        self
+    }
+
+    /// How far past locking `g` is (≥ 0), rad, with the lock's stiffness.
+    fn past(&self, g: f64) -> (f64, f64) {
+        match self.locking {
+            Some(l) if g.abs() > l.gamma_rad => (g.abs() - l.gamma_rad, l.k_lock),
+            _ => (0.0, 0.0),
+        }
+    }
+
+    fn polynomial_stiffness(&self, g: f64) -> f64 {
+        let g2 = g * g;
+        self.k[0] + g2 * (3.0 * self.k[1] + 5.0 * g2 * self.k[2])
+    }
+
     /// The energy per unit initial area at γ, N·mm/mm².
     pub fn energy(&self, g: f64) -> f64 {
         let g2 = g * g;
+        let (p, kl) = self.past(g);
         g2 * (self.k[0] / 2.0 + g2 * (self.k[1] / 4.0 + g2 * self.k[2] / 6.0))
+            + kl * p * p * p / 3.0
     }
 
     /// The shear moment per unit initial area `M(γ)`, N·mm/mm².
     pub fn moment(&self, g: f64) -> f64 {
         let g2 = g * g;
-        g * (self.k[0] + g2 * (self.k[1] + g2 * self.k[2]))
+        let (p, kl) = self.past(g);
+        g * (self.k[0] + g2 * (self.k[1] + g2 * self.k[2])) + g.signum() * kl * p * p
     }
 
     /// Whether the moment rises from 0 to 90° (finite, k1 ≥ 0, dM/dγ ≥ 0 on a 1° grid): a
@@ -37,8 +81,8 @@ impl ShearLaw {
 
     /// `dM/dγ`, N·mm/mm² per radian.
     pub fn stiffness(&self, g: f64) -> f64 {
-        let g2 = g * g;
-        self.k[0] + g2 * (3.0 * self.k[1] + 5.0 * g2 * self.k[2])
+        let (p, kl) = self.past(g);
+        self.polynomial_stiffness(g) + 2.0 * kl * p
     }
 }
 
@@ -113,10 +157,8 @@ mod tests {
 
     #[test]
     fn the_moment_is_the_energys_derivative_and_the_stiffness_the_moments() {
-        let law = ShearLaw {
-            k: [0.08, -0.05, 0.2],
-        };
-        for g in [-0.9, -0.2, 0.0, 0.3, 1.1] {
+        let law = ShearLaw::new([0.08, -0.05, 0.2]).with_locking(50.0);
+        for g in [-0.9, -0.2, 0.0, 0.3, 0.86, 0.88, 1.1] {
             let h = 1e-6;
             let dm = (law.energy(g + h) - law.energy(g - h)) / (2.0 * h);
             let ds = (law.moment(g + h) - law.moment(g - h)) / (2.0 * h);
@@ -154,5 +196,26 @@ mod tests {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod locking_tests {
+    use super::*;
+
+    #[test]
+    fn locking_leaves_the_law_below_it_and_stiffens_it_past_it() {
+        let plain = ShearLaw::new([0.04, -0.08, 0.08]);
+        let locked = plain.with_locking(60.0);
+        for d in [0.0, 20.0, 59.9] {
+            let g = (d as f64).to_radians();
+            assert_eq!(plain.moment(g), locked.moment(g));
+        }
+        let at = 60f64.to_radians();
+        let five = 65f64.to_radians();
+        // 5° past: the slope is the polynomial's plus 20 × its slope at locking.
+        let extra = locked.stiffness(five) - plain.stiffness(five);
+        assert!((extra - 20.0 * plain.stiffness(at)).abs() < 1e-9 * extra);
+        assert!(locked.moment(five) > plain.moment(five));
     }
 }

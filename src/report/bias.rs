@@ -23,7 +23,7 @@ pub struct Departure {
 /// The departure of `result` from the ideal kinematics of `problem`'s law.
 pub fn departure(problem: &BiasProblem, result: &BiasResult) -> Departure {
     let (h, w) = (problem.length, problem.width);
-    let law = problem.shear.unwrap_or(ShearLaw { k: [0.0; 3] });
+    let law = problem.shear.unwrap_or(ShearLaw::new([0.0; 3]));
     let mut d = Departure {
         shear_deg: 0.0,
         shear_at_mm: 0.0,
@@ -67,7 +67,7 @@ pub fn force_chart(
     measured: Option<&[(f64, f64)]>,
 ) -> LineChart {
     let (h, w) = (problem.length, problem.width);
-    let law = problem.shear.unwrap_or(ShearLaw { k: [0.0; 3] });
+    let law = problem.shear.unwrap_or(ShearLaw::new([0.0; 3]));
     let fe: Vec<(f64, f64)> = result
         .displacement_mm
         .iter()

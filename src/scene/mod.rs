@@ -153,10 +153,14 @@ impl Scene {
     pub fn to_problem(&self) -> DrawingProblem {
         let mut p = default_problem();
         p.fabric = self.to_cell_params();
-        p.shear = self
-            .fabric
-            .shear_moment
-            .map(|k| crate::core::shear::ShearLaw { k });
+        p.shear = self.fabric.shear_moment.map(|k| {
+            let law = crate::core::shear::ShearLaw::new(k);
+            if self.fabric.shear_locking {
+                law.with_locking(self.fabric.locking_angle_deg)
+            } else {
+                law
+            }
+        });
         p.yarn_angle_deg = self.fabric.yarn_angle_deg;
         p.tooling = self.tools.tooling();
         p.blank = self.blank.size.0;

@@ -136,6 +136,10 @@ pub struct Fabric {
     /// `[k1, k3, k5]` in N·mm/mm² (γ in radians): beyond the paper, absent by default.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shear_moment: Option<[f64; 3]>,
+    /// Locking as a stiffening: past the locking angle the shear moment rises steeply
+    /// (`core::shear::Locking`). Needs `shear_moment`.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub shear_locking: bool,
 }
 
 impl Default for Fabric {
@@ -152,6 +156,7 @@ impl Default for Fabric {
             break_tension_n: 1500.0,
             yarn_angle_deg: 90.0,
             shear_moment: None,
+            shear_locking: false,
         }
     }
 }

@@ -128,7 +128,7 @@ impl Scene {
             broken("fabric.break_tension_n", Num(f.break_tension_n), what)
         })?;
         if let Some(k) = f.shear_moment {
-            ok_if(crate::core::shear::ShearLaw { k }.rises(), || {
+            ok_if(crate::core::shear::ShearLaw::new(k).rises(), || {
                 broken(
                     "fabric.shear_moment",
                     format!("[{}, {}, {}]", Num(k[0]), Num(k[1]), Num(k[2])),
@@ -137,6 +137,13 @@ impl Scene {
                 )
             })?;
         }
+        ok_if(!f.shear_locking || f.shear_moment.is_some(), || {
+            broken(
+                "fabric.shear_locking",
+                "true",
+                "a shear law to stiffen: fabric.shear_moment = [k1, k3, k5] with it",
+            )
+        })?;
         // An initial angle further from 90° than the locking angle is a fabric locked before
         // it is formed.
         let (lo, hi) = (90.0 - f.locking_angle_deg, 90.0 + f.locking_angle_deg);

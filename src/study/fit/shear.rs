@@ -192,7 +192,7 @@ pub fn fit_shear_law(
         for (i, &j) in free.iter().enumerate() {
             k[j] = k_free[i];
         }
-        if !(ShearLaw { k }).rises() {
+        if !ShearLaw::new(k).rises() {
             continue;
         }
         let sse: f64 = rows
@@ -216,7 +216,7 @@ pub fn fit_shear_law(
             }
         }
     }
-    let law = ShearLaw { k };
+    let law = ShearLaw::new(k);
     let rms_n = (points
         .iter()
         .map(|p| {
@@ -329,9 +329,7 @@ mod tests {
             max_shear_deg: 70.0,
             from_mm: 0.0,
         };
-        let truth = ShearLaw {
-            k: [0.05, 0.02, 0.4],
-        };
+        let truth = ShearLaw::new([0.05, 0.02, 0.4]);
         let points: Vec<BiasPoint> = (1..40)
             .map(|i| {
                 let d = i as f64;
