@@ -208,7 +208,7 @@ mod locking_tests {
         let plain = ShearLaw::new([0.04, -0.08, 0.08]);
         let locked = plain.with_locking(60.0);
         for d in [0.0, 20.0, 59.9] {
-            let g = (d as f64).to_radians();
+            let g = f64::to_radians(d);
             assert_eq!(plain.moment(g), locked.moment(g));
         }
         let at = 60f64.to_radians();
