@@ -43,11 +43,24 @@ impl RunSummary {
                 t.radius, t.rm, t.clearance
             ),
         };
-        let law = if s.fabric.undulation {
-            "woven law (undulation)"
+        let mut law = if s.fabric.undulation {
+            "woven law (undulation)".to_string()
         } else {
-            "linear yarn law"
+            "linear yarn law".to_string()
         };
+        if let Some(k) = s.fabric.shear_moment {
+            law.push_str(&format!(
+                ", shear law [{}, {}, {}] N·mm/mm²{}",
+                k[0],
+                k[1],
+                k[2],
+                if s.fabric.shear_locking {
+                    ", stiffening past locking"
+                } else {
+                    ""
+                }
+            ));
+        }
         let _ = writeln!(out, "scene        {}", self.scene);
         let _ = writeln!(out, "tools        {tools}");
         let _ = writeln!(
