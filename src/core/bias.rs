@@ -258,11 +258,32 @@ impl BiasProblem {
             // The first segment starts with every yarn on the law's slack/taut kink, where the
             // active set chatters (thousands of yarns flip per iteration): it may need many
             // small steps before the yarns settle.
-            let mut first = options.clone();
-            if k == 1 {
-                first.max_steps = first.max_steps.max(5000);
-            }
-            let mut solved = solve_segment(&mut model, &first, &segment, &mut result);
+            // Solved as the others (with more steps allowed); should that fail, to a looser
+            // floor first (a yarn strain of 1e-5), then again to the usual one from there.
+            let mut solved = if k == 1 {
+                let mut strict = options.clone();
+                strict.max_steps = strict.max_steps.max(1500);
+                let first = solve_segment(&mut model, &strict, &segment, &mut result);
+                if first.is_ok() {
+                    first
+                } else {
+                    model.u = u_now.clone();
+                    model.crimp = crimp_now.clone();
+                    let mut loose = options.clone();
+                    loose.tol_floor = 1e-5;
+                    loose.max_steps = loose.max_steps.max(5000);
+                    solve_segment(&mut model, &loose, &segment, &mut result).and_then(|()| {
+                        let again = Segment {
+                            grips: segment.grips.clone(),
+                            from: segment.to,
+                            to: segment.to,
+                        };
+                        solve_segment(&mut model, &options, &again, &mut result)
+                    })
+                }
+            } else {
+                solve_segment(&mut model, &options, &segment, &mut result)
+            };
             if solved.is_err() && u_before.is_some() {
                 model.u = u_now.clone();
                 model.crimp = crimp_now;

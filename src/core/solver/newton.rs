@@ -185,11 +185,11 @@ impl Solver<'_> {
     }
 
     /// The residual that ends the iterations, N: relative to the load scale, with a floor of a
-    /// yarn force of 1e-7 C (a yarn strain of 1e-7) for problems whose forces are all nearly
+    /// yarn force of `tol_floor` C (default 1e-7: a yarn strain of 1e-7) for problems whose forces are all nearly
     /// zero (a free, slack blank on the law's slack/taut kink).
     fn residual_tolerance(&self, a: &Assembly) -> f64 {
         let c = 0.5 * (self.model.law.p.c[0] + self.model.law.p.c[1]);
-        self.relax * (self.options.tol_force * a.scale + 1e-7 * c)
+        self.relax * (self.options.tol_force * a.scale + self.options.tol_floor * c)
     }
 
     /// The last correction is small: against the element size, or against what the step has
