@@ -112,7 +112,7 @@ fn bad_bias_input_is_refused_before_solving_with_exit_2() {
     let cases: [(&[&str], &str); 4] = [
         (
             &["--length", "100", "--width", "120", "--stroke", "5"],
-            "greater than the width",
+            "more than 1.5 times the width",
         ),
         (
             &["--length", "230", "--width", "115", "--stroke", "50"],
@@ -143,6 +143,15 @@ fn bad_bias_input_is_refused_before_solving_with_exit_2() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(expected), "{args:?}: {err}");
+    }
+    // A fit on a specimen with no central zone, or one given as a word.
+    let data = dir.path().join("d.csv");
+    std::fs::write(&data, "displacement_mm,force_n\n5,1\n10,2\n15,3\n20,4\n").unwrap();
+    for (spec, expected) in [("100x80", "1.5 times"), ("230xabc", "length and width")] {
+        let out = wovenform(&["fit", data.to_str().unwrap(), "--bias", spec]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{spec}: {err}");
+        assert!(err.contains(expected), "{spec}: {err}");
     }
     // The paper's fabric: no shear law, no answer, said at once.
     let paper = dir.path().join("p.toml");

@@ -52,12 +52,18 @@ pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
         max_shear_deg: args.max_shear_deg.unwrap_or(scene.fabric.locking_angle_deg),
         from_mm: args.from_mm,
     };
+    if length <= 1.5 * width {
+        return Err(bad(format!(
+            "--bias {length}x{width}: a bias specimen needs a length more than 1.5 times its width (usually twice), so that it has a central zone"
+        )));
+    }
     let used = fit_points(&specimen, &points);
     if used.len() < 4 {
         return Err(bad(format!(
-            "{}: {} points with a positive force under {}° of ideal central shear (d < {:.1} mm on a {length} × {width} mm specimen): expected at least 4",
+            "{}: {} points with a positive force from {} mm (--from) and under {}° of ideal central shear (--max-shear; d < {:.1} mm on a {length} × {width} mm specimen): expected at least 4",
             args.data.display(),
             used.len(),
+            specimen.from_mm,
             specimen.max_shear_deg,
             kinematic_limit(length, width)
         )));

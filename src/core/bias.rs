@@ -41,7 +41,8 @@ pub enum BiasError {
     /// The paper's fabric (no shear law) trellises freely: the test's force is zero until the
     /// yarns jam, and its shape is not unique.
     NoShearStiffness,
-    /// The specimen is not longer than it is wide, so it has no central zone.
+    /// The specimen is not more than 1.5 times as long as it is wide, so it has no central
+    /// zone (its area W (H − 3W/2) is not positive).
     TooShort {
         length: f64,
         width: f64,
@@ -66,7 +67,7 @@ impl std::fmt::Display for BiasError {
             BiasError::TooShort { length, width } => write!(
                 f,
                 "a bias specimen {length} mm long and {width} mm wide has no central zone: \
-                 expected a length greater than the width (usually twice)"
+                 expected a length more than 1.5 times the width (usually twice)"
             ),
             BiasError::StrokeTooLong { stroke, limit } => write!(
                 f,
@@ -180,7 +181,7 @@ impl BiasProblem {
         if self.shear.is_none() {
             return Err(BiasError::NoShearStiffness);
         }
-        if self.length <= self.width {
+        if self.length <= 1.5 * self.width {
             return Err(BiasError::TooShort {
                 length: self.length,
                 width: self.width,
