@@ -259,3 +259,28 @@ fn a_field_that_could_not_be_read_is_read_again_later() {
     app.on_key(key(KeyCode::Up));
     assert!(matches!(app.fields.get(&id0), Some(Ok(_))));
 }
+
+#[test]
+fn a_sweep_on_a_fabric_with_a_shear_law_says_so_in_the_title() {
+    let dir = tempfile::tempdir().unwrap();
+    let preset =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/box-with-shear.toml");
+    let sweep = dir.path().join("s.toml");
+    std::fs::write(
+        &sweep,
+        format!(
+            "base = {:?}\n[sweep]\nr = [5.0, 10.0]\n",
+            preset.display().to_string()
+        ),
+    )
+    .unwrap();
+    let source = wovenform::tui::source_of_file(&sweep).unwrap();
+    let app = App::new(
+        Parameters::new(source).unwrap(),
+        PathBuf::from("/session"),
+        false,
+    );
+    assert!(screen(&app, 100, 24).contains("· shear law"));
+    // The default (the paper's fabric) has none.
+    assert!(!screen(&explorer(false), 100, 24).contains("shear law"));
+}

@@ -145,8 +145,14 @@ impl Widget for &App {
 fn render_title(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let p = &app.params;
     let err = p.accuracy.error();
+    let fabric = &p.plan.base_scene.fabric;
+    let shear = match (fabric.shear_moment, fabric.shear_locking) {
+        (Some(_), true) => " · shear law, stiffening past locking",
+        (Some(_), false) => " · shear law",
+        (None, _) => "",
+    };
     let text = format!(
-        " wovenform · {} · {} designs · {} ±{:.1}° · locking {}°",
+        " wovenform · {} · {} designs · {} ±{:.1}° · locking {}°{shear}",
         p.source.title,
         p.plan.len(),
         p.accuracy,
