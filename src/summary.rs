@@ -216,15 +216,20 @@ pub fn what_is_drawn(result: &DrawingResult, stroke_mm: f64) -> String {
     } else {
         "full blank"
     };
-    let stroke = if result.converged {
+    let stroke = stroke_reached(result, stroke_mm);
+    format!("deformed blank seen from above, {part}, {stroke}; dashed: die opening")
+}
+
+/// The stroke a map shows: "stroke 28.0 mm", or where the run stopped short of `stroke_mm`.
+pub fn stroke_reached(result: &DrawingResult, stroke_mm: f64) -> String {
+    if result.converged {
         format!("stroke {:.1} mm", result.stroke_reached_mm)
     } else {
         format!(
             "stopped at stroke {:.1} of {:.1} mm",
             result.stroke_reached_mm, stroke_mm
         )
-    };
-    format!("deformed blank seen from above, {part}, {stroke}; dashed: die opening")
+    }
 }
 
 /// The subtitle of a shear map of the run.

@@ -172,14 +172,17 @@ fn fe_over_ideal(problem: &BiasProblem, r: &BiasResult) -> impl Fn(f64) -> f64 +
             (d, if ideal > 0.0 { f / ideal } else { 1.0 })
         })
         .collect();
-    move |d: f64| {
-        let i = pairs.partition_point(|p| p.0 < d);
-        match (i.checked_sub(1).and_then(|j| pairs.get(j)), pairs.get(i)) {
-            (Some(a), Some(b)) if b.0 > a.0 => a.1 + (b.1 - a.1) * (d - a.0) / (b.0 - a.0),
-            (Some(a), _) => a.1,
-            (None, Some(b)) => b.1,
-            (None, None) => 1.0,
-        }
+    move |d: f64| interpolate(&pairs, d).unwrap_or(1.0)
+}
+
+/// The piecewise-linear curve through `points` (increasing x) at `x`, held at its ends;
+/// `None` for no points.
+fn interpolate(points: &[(f64, f64)], x: f64) -> Option<f64> {
+    let i = points.partition_point(|p| p.0 < x);
+    match (i.checked_sub(1).and_then(|j| points.get(j)), points.get(i)) {
+        (Some(a), Some(b)) if b.0 > a.0 => Some(a.1 + (b.1 - a.1) * (x - a.0) / (b.0 - a.0)),
+        (Some(a), _) => Some(a.1),
+        (None, b) => b.map(|b| b.1),
     }
 }
 
@@ -211,16 +214,13 @@ fn report(s: &BiasSpecimen, fit: &ShearFit, r: &BiasResult, used: &[BiasPoint], 
         println!("{name}           {:.6} N·mm/mm² ({note})", fit.law.k[j]);
     }
     // The finite-element curve of the last pass against the data.
-    let fe = |d: f64| {
-        let i = r.displacement_mm.partition_point(|x| *x < d);
-        match (i.checked_sub(1), r.displacement_mm.get(i)) {
-            (Some(a), Some(&xb)) if xb > r.displacement_mm[a] => {
-                let xa = r.displacement_mm[a];
-                r.force_n[a] + (r.force_n[i] - r.force_n[a]) * (d - xa) / (xb - xa)
-            }
-            _ => r.force_n.last().copied().unwrap_or(0.0),
-        }
-    };
+    let curve: Vec<(f64, f64)> = r
+        .displacement_mm
+        .iter()
+        .copied()
+        .zip(r.force_n.iter().copied())
+        .collect();
+    let fe = |d: f64| interpolate(&curve, d).unwrap_or(0.0);
     let rel: Vec<f64> = used
         .iter()
         .filter(|p| p.displacement_mm <= r.displacement_mm.last().copied().unwrap_or(0.0))

@@ -104,9 +104,15 @@ pub fn ideal_shear(h: f64, w: f64, d: f64) -> f64 {
 
 /// The ideal force (N) of shear law `law` at a grip displacement `d` (the energy balance).
 pub fn ideal_force(law: &ShearLaw, h: f64, w: f64, d: f64) -> f64 {
+    ideal_force_of(&|g| law.moment(g), h, w, d)
+}
+
+/// The ideal force (N) of any moment per unit area `m(γ)` at a grip displacement `d`:
+/// `F = m(γ) A_c γ' + m(γ/2) A_h γ'/2`, linear in `m` (the fit's basis is `m = γʲ`).
+pub fn ideal_force_of(m: &dyn Fn(f64) -> f64, h: f64, w: f64, d: f64) -> f64 {
     let (g, dg) = ideal_shear_rate(h, w, d);
     let (ac, ah) = (w * (h - 1.5 * w), w * w);
-    law.moment(g) * ac * dg + law.moment(g / 2.0) * ah * dg / 2.0
+    m(g) * ac * dg + m(g / 2.0) * ah * dg / 2.0
 }
 
 /// The ideal central shear (rad) and its rate `dγ/dd` (rad/mm).
@@ -228,6 +234,20 @@ impl BiasProblem {
             newton_iterations: 0,
         };
         let points = self.points.max(2);
+        // The grips: every fixed dof stays, the pulled ones move by the segment's displacement.
+        let grips = LinearPrescribed {
+            at_full_load: fixed
+                .iter()
+                .map(|d| {
+                    if pulled.binary_search(d).is_ok() {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                })
+                .collect(),
+            dofs: fixed.clone(),
+        };
         let mut u_before: Option<Vec<f64>> = None;
         let mut options = self.solver.clone();
         options.initial_step = 1.0;
@@ -238,13 +258,7 @@ impl BiasProblem {
                 self.stroke * k as f64 / points as f64,
             );
             let segment = Segment {
-                grips: LinearPrescribed {
-                    at_full_load: fixed
-                        .iter()
-                        .map(|d| if pulled.contains(d) { 1.0 } else { 0.0 })
-                        .collect(),
-                    dofs: fixed.clone(),
-                },
+                grips: &grips,
                 from: d0,
                 to: d1,
             };
@@ -275,7 +289,7 @@ impl BiasProblem {
                     loose.max_steps = loose.max_steps.max(5000);
                     solve_segment(&mut model, &loose, &segment, &mut result).and_then(|()| {
                         let again = Segment {
-                            grips: segment.grips.clone(),
+                            grips: &grips,
                             from: segment.to,
                             to: segment.to,
                         };
@@ -315,7 +329,7 @@ impl BiasProblem {
 fn solve_segment(
     model: &mut Model,
     options: &SolverOptions,
-    segment: &Segment,
+    segment: &Segment<'_>,
     result: &mut BiasResult,
 ) -> Result<(), Failure> {
     let mut solver = Solver::new(model, options.clone());
@@ -328,13 +342,13 @@ fn solve_segment(
 
 /// The grips' displacements from `from` to `to` (mm) along one solve's load path: the pulled
 /// dofs move by `from + λ (to − from)`, the rest stay.
-struct Segment {
-    grips: LinearPrescribed,
+struct Segment<'a> {
+    grips: &'a LinearPrescribed,
     from: f64,
     to: f64,
 }
 
-impl Prescribed for Segment {
+impl Prescribed for Segment<'_> {
     fn dofs(&self) -> &[usize] {
         &self.grips.dofs
     }

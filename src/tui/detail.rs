@@ -230,9 +230,9 @@ fn render_field(app: &App, field: &StoredField, area: Rect, buf: &mut Buffer, st
         .max_at
         .map(|p| format!(" at ({:.0}, {:.0}) mm", p[0], p[1]))
         .unwrap_or_default();
-    let (values, limit, top, caption, unit, limit_name);
+    let (quads, values, limit, top, caption, unit, limit_name);
     if tension {
-        let (_, v) = crate::report::sweep::full_blank_of(field, &field.tension_n);
+        let (q, v) = crate::report::sweep::full_blank_of(field, &field.tension_n);
         let largest = v.iter().copied().fold(0.0, f64::max);
         limit = field.break_tension_n;
         // Scaled to the field (a blank at a fifth of the break is not pale all over).
@@ -245,15 +245,14 @@ fn render_field(app: &App, field: &StoredField, area: Rect, buf: &mut Buffer, st
             "yarn tension, cell peak {:.0} N (break {:.0} N)",
             field.max_tension_n, limit
         );
-        (values, unit, limit_name) = (v, " N", "break");
+        (quads, values, unit, limit_name) = (q, v, " N", "break");
     } else {
-        let (_, v) = crate::report::sweep::full_blank(field);
+        let (q, v) = crate::report::sweep::full_blank(field);
         limit = field.locking_angle_deg;
         top = v.iter().copied().fold(1.1 * limit, f64::max);
         caption = format!("shear, cell peak {:.1}°{max_at}", field.max_shear_deg);
-        (values, unit, limit_name) = (v, "°", "locking");
+        (quads, values, unit, limit_name) = (q, v, "°", "locking");
     }
-    let (quads, _) = crate::report::sweep::full_blank(field);
     let [caption_area, map] =
         Layout::vertical([Constraint::Length(1), Constraint::Min(1)]).areas(map);
     Paragraph::new(Line::styled(caption, st.dim())).render(caption_area, buf);

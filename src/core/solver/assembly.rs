@@ -105,15 +105,21 @@ impl Workspace {
         {
             for i in 0..12 {
                 for j in i..12 {
-                    let p = pair_index(i, j);
-                    let s = slots[p];
+                    let s = slots[pair_index(i, j)];
                     if s != u32::MAX {
-                        let k = if (twice >> p) & 1 == 1 {
-                            2.0 * out.k[i][j]
-                        } else {
-                            out.k[i][j]
-                        };
-                        self.values[s as usize] += k;
+                        self.values[s as usize] += out.k[i][j];
+                    }
+                }
+            }
+            if twice == 0 {
+                continue;
+            }
+            // A collapsed quad: the mirror (j, i) of a pair on one global dof, once more.
+            for i in 0..12 {
+                for j in i + 1..12 {
+                    let p = pair_index(i, j);
+                    if (twice >> p) & 1 == 1 && slots[p] != u32::MAX {
+                        self.values[slots[p] as usize] += out.k[j][i];
                     }
                 }
             }

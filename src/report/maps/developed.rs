@@ -177,14 +177,7 @@ fn developed(
     } else {
         "full blank"
     };
-    let stroke = if result.converged {
-        format!("stroke {:.1} mm", result.stroke_reached_mm)
-    } else {
-        format!(
-            "stopped at stroke {:.1} of {:.1} mm",
-            result.stroke_reached_mm, ctx.stroke_mm
-        )
-    };
+    let stroke = crate::summary::stroke_reached(result, ctx.stroke_mm);
     let mut subtitle = format!(
         "Developed view: {} on the flat blank before forming, each element where it started ({part}, {stroke})",
         what.to_lowercase()

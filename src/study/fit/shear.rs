@@ -11,7 +11,7 @@
 
 use std::path::Path;
 
-use crate::core::bias::{ideal_shear_rate, kinematic_limit};
+use crate::core::bias::{ideal_force_of, kinematic_limit};
 use crate::core::shear::ShearLaw;
 
 /// One measured point: grip displacement (mm) and force (N).
@@ -136,10 +136,7 @@ impl ShearFit {
 
 /// The ideal-kinematics basis `φj(d)`, N per unit of `kj`.
 fn basis(s: &BiasSpecimen, d: f64) -> [f64; 3] {
-    let (h, w) = (s.length, s.width);
-    let (g, rate) = ideal_shear_rate(h, w, d);
-    let (ac, ah) = (w * (h - 1.5 * w), w * w);
-    [1, 3, 5].map(|j| g.powi(j) * ac * rate + (g / 2.0).powi(j) * ah * rate / 2.0)
+    [1, 3, 5].map(|j| ideal_force_of(&|g: f64| g.powi(j), s.length, s.width, d))
 }
 
 /// The points of the fit: positive force, inside the kinematics and the shear range.
