@@ -13,6 +13,8 @@
 //!          │          │          opening a + 2·clearance, corner r + clearance, entry radius rm
 //! ```
 
+pub mod surface;
+
 /// A point's signed distance to a tool surface (negative inside the tool) and its gradient
 /// (the outward unit normal at the nearest surface point).
 #[derive(Clone, Copy, Debug, PartialEq)]

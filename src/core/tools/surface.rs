@@ -1,0 +1,264 @@
+//! A closed triangle surface: the boundary of a rigid tool read from a mesh (STL). Triangles
+//! wind counter-clockwise seen from outside the tool's material, so their right-hand normals
+//! point out of it.
+//!
+//! [`TriSurface::from_soup`] welds the corners that coincide (a triangle soup, as STL stores
+//! it, repeats every vertex) and [`TriSurface::check`] refuses what no tool can be: no
+//! triangles, coordinates that are not numbers, a surface with holes (an edge with one
+//! triangle), triangles facing both ways, an inside-out surface (negative enclosed volume).
+
+use std::collections::HashMap;
+
+/// Why a triangle surface cannot be a tool's boundary.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SurfaceError {
+    #[error("it has no triangles")]
+    Empty,
+    #[error("triangle {triangle} has a coordinate that is not a finite number")]
+    NotFinite { triangle: usize },
+    #[error(
+        "it is not closed (not watertight): {open_edges} edges belong to one triangle only, \
+         e.g. the edge from {from:?} to {to:?} mm; a tool must enclose its material"
+    )]
+    Open {
+        open_edges: usize,
+        from: [f64; 3],
+        to: [f64; 3],
+    },
+    #[error(
+        "{edges} edges are shared by more than two triangles, e.g. the edge from {from:?} to \
+         {to:?} mm (not a manifold surface)"
+    )]
+    NonManifold {
+        edges: usize,
+        from: [f64; 3],
+        to: [f64; 3],
+    },
+    #[error(
+        "its triangles do not face one way: {edges} edges are run the same way by both their \
+         triangles, e.g. the edge from {from:?} to {to:?} mm; wind every triangle \
+         counter-clockwise seen from outside"
+    )]
+    Inconsistent {
+        edges: usize,
+        from: [f64; 3],
+        to: [f64; 3],
+    },
+    #[error(
+        "it is inside out: its triangles' normals point into the material (enclosed volume \
+         {volume_mm3:.4e} mm³ is negative); flip the triangles' winding (e.g. ParaView's \
+         Reverse Sense, Blender's Flip Normals)"
+    )]
+    InsideOut { volume_mm3: f64 },
+    #[error("it encloses no volume ({volume_mm3:.3e} mm³): a flat or degenerate surface")]
+    NoVolume { volume_mm3: f64 },
+}
+
+/// An indexed triangle surface, mm.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriSurface {
+    pub vertices: Vec<[f64; 3]>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl TriSurface {
+    /// Welds the corners of a triangle soup that lie within `1e-9` of the soup's size of each
+    /// other (exactly equal corners, as STL writers repeat them, always weld) and drops the
+    /// triangles that lose a corner to the weld (zero area). Non-finite coordinates are refused.
+    pub fn from_soup(soup: &[[[f64; 3]; 3]]) -> Result<TriSurface, SurfaceError> {
+        if soup.is_empty() {
+            return Err(SurfaceError::Empty);
+        }
+        if let Some(t) = soup
+            .iter()
+            .position(|t| t.iter().flatten().any(|v| !v.is_finite()))
+        {
+            return Err(SurfaceError::NotFinite { triangle: t });
+        }
+        let size = soup
+            .iter()
+            .flatten()
+            .flatten()
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(1e-300);
+        let quantum = 1e-9 * size;
+        let key = |p: &[f64; 3]| p.map(|v| (v / quantum).round() as i64);
+        let mut index: HashMap<[i64; 3], u32> = HashMap::with_capacity(soup.len() / 2 + 8);
+        let mut vertices = Vec::with_capacity(soup.len() / 2 + 8);
+        let mut triangles = Vec::with_capacity(soup.len());
+        for tri in soup {
+            let ids = tri.map(|p| {
+                *index.entry(key(&p)).or_insert_with(|| {
+                    vertices.push(p);
+                    (vertices.len() - 1) as u32
+                })
+            });
+            if ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2] {
+                triangles.push(ids);
+            }
+        }
+        Ok(TriSurface {
+            vertices,
+            triangles,
+        })
+    }
+
+    /// The three corners of triangle `t`.
+    pub fn corners(&self, t: usize) -> [[f64; 3]; 3] {
+        self.triangles[t].map(|v| self.vertices[v as usize])
+    }
+
+    /// Refuses a surface that cannot bound a tool (see the module's note). Returns the enclosed
+    /// volume, mm³.
+    pub fn check(&self) -> Result<f64, SurfaceError> {
+        if self.triangles.is_empty() {
+            return Err(SurfaceError::Empty);
+        }
+        // Each undirected edge: (uses a→b, uses b→a) with a < b.
+        let mut edges: HashMap<(u32, u32), (u32, u32)> =
+            HashMap::with_capacity(3 * self.triangles.len() / 2 + 8);
+        for t in &self.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let e = edges.entry((a.min(b), a.max(b))).or_default();
+                if a < b {
+                    e.0 += 1;
+                } else {
+                    e.1 += 1;
+                }
+            }
+        }
+        let at = |e: &(u32, u32)| (self.vertices[e.0 as usize], self.vertices[e.1 as usize]);
+        let find = |bad: &dyn Fn(&(u32, u32)) -> bool| {
+            let mut list: Vec<&(u32, u32)> = edges
+                .iter()
+                .filter(|(_, uses)| bad(uses))
+                .map(|(e, _)| e)
+                .collect();
+            list.sort();
+            (list.len(), list.first().map(|e| at(e)))
+        };
+        if let (n, Some((from, to))) = find(&|u| u.0 + u.1 == 1) {
+            return Err(SurfaceError::Open {
+                open_edges: n,
+                from,
+                to,
+            });
+        }
+        if let (n, Some((from, to))) = find(&|u| u.0 + u.1 > 2) {
+            return Err(SurfaceError::NonManifold { edges: n, from, to });
+        }
+        if let (n, Some((from, to))) = find(&|u| u.0 != 1 || u.1 != 1) {
+            return Err(SurfaceError::Inconsistent { edges: n, from, to });
+        }
+        let volume = self.volume_mm3();
+        let (lo, hi) = self.bounds();
+        let box_volume: f64 = (0..3).map(|i| (hi[i] - lo[i]).max(0.0)).product();
+        if volume.abs() <= 1e-9 * box_volume.max(1e-300) || box_volume == 0.0 {
+            return Err(SurfaceError::NoVolume { volume_mm3: volume });
+        }
+        if volume < 0.0 {
+            return Err(SurfaceError::InsideOut { volume_mm3: volume });
+        }
+        Ok(volume)
+    }
+
+    /// The enclosed volume by the divergence theorem, mm³: positive when the triangles face
+    /// out.
+    pub fn volume_mm3(&self) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| {
+                let [a, b, c] = self.corners(t);
+                let cross = [
+                    b[1] * c[2] - b[2] * c[1],
+                    b[2] * c[0] - b[0] * c[2],
+                    b[0] * c[1] - b[1] * c[0],
+                ];
+                (a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2]) / 6.0
+            })
+            .sum()
+    }
+
+    /// The corners of the surface's bounding box, mm.
+    pub fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for v in &self.vertices {
+            for i in 0..3 {
+                lo[i] = lo[i].min(v[i]);
+                hi[i] = hi[i].max(v[i]);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// The surface moved by `offset`, mm.
+    pub fn translated(&self, offset: [f64; 3]) -> TriSurface {
+        TriSurface {
+            vertices: self
+                .vertices
+                .iter()
+                .map(|v| [v[0] + offset[0], v[1] + offset[1], v[2] + offset[2]])
+                .collect(),
+            triangles: self.triangles.clone(),
+        }
+    }
+
+    /// Each triangle as three corners (what STL stores).
+    pub fn soup(&self) -> Vec<[[f64; 3]; 3]> {
+        (0..self.triangles.len()).map(|t| self.corners(t)).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube's 12 triangles, facing out.
+    fn cube() -> Vec<[[f64; 3]; 3]> {
+        let v = |i: usize| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64];
+        // Quads as corner indices, counter-clockwise seen from outside.
+        let quads = [
+            [0, 2, 3, 1], // z = 0
+            [4, 5, 7, 6], // z = 1
+            [0, 1, 5, 4], // y = 0
+            [2, 6, 7, 3], // y = 1
+            [0, 4, 6, 2], // x = 0
+            [1, 3, 7, 5], // x = 1
+        ];
+        quads
+            .iter()
+            .flat_map(|q| [[v(q[0]), v(q[1]), v(q[2])], [v(q[0]), v(q[2]), v(q[3])]])
+            .collect()
+    }
+
+    #[test]
+    fn a_closed_cube_welds_and_encloses_its_volume() {
+        let s = TriSurface::from_soup(&cube()).unwrap();
+        assert_eq!(s.vertices.len(), 8);
+        assert_eq!(s.triangles.len(), 12);
+        assert!((s.check().unwrap() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn what_cannot_bound_a_tool_is_named() {
+        assert_eq!(TriSurface::from_soup(&[]), Err(SurfaceError::Empty));
+        let mut open = cube();
+        open.pop();
+        let e = TriSurface::from_soup(&open).unwrap().check().unwrap_err();
+        assert!(matches!(e, SurfaceError::Open { open_edges: 3, .. }), "{e}");
+        let inverted: Vec<_> = cube().iter().map(|t| [t[0], t[2], t[1]]).collect();
+        let e = TriSurface::from_soup(&inverted).unwrap().check().unwrap_err();
+        assert!(matches!(e, SurfaceError::InsideOut { .. }), "{e}");
+        let mut mixed = cube();
+        mixed[0] = [mixed[0][0], mixed[0][2], mixed[0][1]];
+        let e = TriSurface::from_soup(&mixed).unwrap().check().unwrap_err();
+        assert!(matches!(e, SurfaceError::Inconsistent { .. }), "{e}");
+        let mut nan = cube();
+        nan[5][1][2] = f64::NAN;
+        assert_eq!(
+            TriSurface::from_soup(&nan),
+            Err(SurfaceError::NotFinite { triangle: 5 })
+        );
+    }
+}
