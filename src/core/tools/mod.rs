@@ -13,7 +13,9 @@
 //!          │          │          opening a + 2·clearance, corner r + clearance, entry radius rm
 //! ```
 
+pub mod capped;
 pub mod surface;
+pub mod tessellate;
 
 /// A point's signed distance to a tool surface (negative inside the tool) and its gradient
 /// (the outward unit normal at the nearest surface point).

@@ -248,7 +248,10 @@ mod tests {
         let e = TriSurface::from_soup(&open).unwrap().check().unwrap_err();
         assert!(matches!(e, SurfaceError::Open { open_edges: 3, .. }), "{e}");
         let inverted: Vec<_> = cube().iter().map(|t| [t[0], t[2], t[1]]).collect();
-        let e = TriSurface::from_soup(&inverted).unwrap().check().unwrap_err();
+        let e = TriSurface::from_soup(&inverted)
+            .unwrap()
+            .check()
+            .unwrap_err();
         assert!(matches!(e, SurfaceError::InsideOut { .. }), "{e}");
         let mut mixed = cube();
         mixed[0] = [mixed[0][0], mixed[0][2], mixed[0][1]];
