@@ -15,6 +15,8 @@
 //! 1. [`core`]: pure numerics (the woven-cell law, the membrane element, the Newton solver, the
 //!    tools and their contact, the drawing problem). No files, no terminal, no serde, no clock.
 //! 2. [`machine`]: what this machine can hold (its memory), asked before a mesh is allocated.
+//!    [`stl`]: tool surfaces ([`core::tools::surface::TriSurface`]) read from and written to
+//!    STL files, with the refusals of a file that cannot be a tool.
 //! 3. [`scene`]: the TOML scene a user writes, checked against physical bounds (and against
 //!    the machine), turned into a [`core::drawing::DrawingProblem`].
 //! 4. [`accuracy`], [`verdict`], [`summary`]: the error each accuracy level carries, the one
@@ -35,6 +37,7 @@ pub mod presets;
 pub mod publish;
 pub mod report;
 pub mod scene;
+pub mod stl;
 pub mod study;
 pub mod summary;
 pub mod tui;

@@ -1,0 +1,417 @@
+//! STL files: a tool's surface read from ASCII or binary STL, and written as binary STL.
+//!
+//! Binary STL: an 80-byte header, a little-endian `u32` triangle count, then 50 bytes per
+//! triangle (normal and three corners as 12 `f32`, a 2-byte attribute). ASCII STL:
+//! `solid NAME`, then per triangle `facet normal nx ny nz`, `outer loop`, three
+//! `vertex x y z`, `endloop`, `endfacet`, and `endsolid NAME` (keywords in any case).
+//!
+//! The facet normals stored in a file are ignored: a triangle's corners wind counter-clockwise
+//! seen from outside the tool's material, and that winding alone says which way it faces
+//! (many writers store zero or stale normals). Units are mm.
+//!
+//! What a file cannot be is refused with an [`StlError`] that names the file and the problem
+//! in words: empty, too large (see [`MAX_BYTES`], [`MAX_TRIANGLES`]), not an STL at all,
+//! truncated, a malformed ASCII line (with its number), coordinates that are not finite
+//! numbers, and a surface that cannot bound a tool ([`TriSurface::check`]).
+
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+
+use crate::core::tools::surface::{SurfaceError, TriSurface};
+
+/// The largest STL file read, bytes (500 MB).
+pub const MAX_BYTES: u64 = 500_000_000;
+/// The most triangles read from one file.
+pub const MAX_TRIANGLES: u64 = 5_000_000;
+
+/// A triangle as three corners, mm.
+pub type Triangle = [[f64; 3]; 3];
+
+/// Why an STL file cannot be read or written, naming the file.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {problem}", path.display())]
+pub struct StlError {
+    pub path: PathBuf,
+    pub problem: StlProblem,
+}
+
+/// What is wrong with an STL file.
+#[derive(Debug, thiserror::Error)]
+pub enum StlProblem {
+    #[error("cannot read the file: {0}")]
+    Read(std::io::Error),
+    #[error("cannot write the file: {0}")]
+    Write(std::io::Error),
+    #[error("the file is empty (0 bytes); an STL file holds triangles")]
+    Empty,
+    #[error(
+        "the file is {bytes} bytes, over the limit of {limit} bytes (500 MB) for a tool's STL; \
+         coarsen the mesh"
+    )]
+    TooLarge { bytes: u64, limit: u64 },
+    #[error(
+        "its header says {count} triangles, over the limit of {limit} (5 million) for a tool's \
+         STL; coarsen the mesh"
+    )]
+    TooManyTriangles { count: u64, limit: u64 },
+    #[error(
+        "it holds more than {limit} triangles (5 million), the limit for a tool's STL; coarsen \
+         the mesh"
+    )]
+    TooManyAsciiTriangles { limit: u64 },
+    #[error(
+        "truncated binary STL: its header says {count} triangles, which take \
+         84 + 50 × {count} = {expected} bytes, but the file holds only {actual} bytes"
+    )]
+    Truncated {
+        count: u64,
+        expected: u64,
+        actual: u64,
+    },
+    #[error("not an STL file: {0}")]
+    NotStl(String),
+    #[error("line {line}: {what}")]
+    AsciiLine { line: usize, what: String },
+    #[error(
+        "triangle {triangle} (of {count}, counting from 1) has a coordinate that is not a \
+         finite number ({value})"
+    )]
+    NotFinite {
+        triangle: usize,
+        count: usize,
+        value: f64,
+    },
+    #[error("not a tool's surface: {0}")]
+    Surface(SurfaceError),
+}
+
+/// Reads an STL file (ASCII or binary) as a closed tool surface: its corners welded and the
+/// surface checked (closed, manifold, facing out; see [`TriSurface::check`]).
+pub fn read_surface(path: &Path) -> Result<TriSurface, StlError> {
+    let at = |problem| StlError {
+        path: path.to_path_buf(),
+        problem,
+    };
+    let soup = read_soup(path)?;
+    let surface = TriSurface::from_soup(&soup).map_err(|e| at(StlProblem::Surface(e)))?;
+    surface.check().map_err(|e| at(StlProblem::Surface(e)))?;
+    Ok(surface)
+}
+
+/// Reads the triangles of an STL file (ASCII or binary), as they are stored.
+pub fn read_soup(path: &Path) -> Result<Vec<Triangle>, StlError> {
+    let at = |problem| StlError {
+        path: path.to_path_buf(),
+        problem,
+    };
+    let mut file = std::fs::File::open(path).map_err(|e| at(StlProblem::Read(e)))?;
+    let bytes = file.metadata().map_err(|e| at(StlProblem::Read(e)))?.len();
+    if bytes > MAX_BYTES {
+        return Err(at(StlProblem::TooLarge {
+            bytes,
+            limit: MAX_BYTES,
+        }));
+    }
+    // The header first, so that a binary file's count is refused before the rest is read.
+    let mut head = Vec::with_capacity(84);
+    (&mut file)
+        .take(84)
+        .read_to_end(&mut head)
+        .map_err(|e| at(StlProblem::Read(e)))?;
+    check_head(&head).map_err(at)?;
+    let mut all = head;
+    file.read_to_end(&mut all)
+        .map_err(|e| at(StlProblem::Read(e)))?;
+    parse(&all).map_err(at)
+}
+
+/// Refuses what the first 84 bytes already show: an empty file, a known other format, a
+/// binary count over the limit.
+fn check_head(head: &[u8]) -> Result<(), StlProblem> {
+    if head.is_empty() {
+        return Err(StlProblem::Empty);
+    }
+    if let Some(kind) = other_format(head) {
+        return Err(StlProblem::NotStl(format!("it is {kind}")));
+    }
+    if head.len() == 84 && !is_text(head) {
+        let count = binary_count(head);
+        if count > MAX_TRIANGLES {
+            return Err(StlProblem::TooManyTriangles {
+                count,
+                limit: MAX_TRIANGLES,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The triangles of an STL file's bytes (ASCII or binary).
+pub fn parse(bytes: &[u8]) -> Result<Vec<Triangle>, StlProblem> {
+    if bytes.is_empty() {
+        return Err(StlProblem::Empty);
+    }
+    if let Some(kind) = other_format(bytes) {
+        return Err(StlProblem::NotStl(format!("it is {kind}")));
+    }
+    if is_text(bytes) {
+        let text = String::from_utf8_lossy(bytes);
+        let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+        let starts_solid = first
+            .split_whitespace()
+            .next()
+            .is_some_and(|w| w.eq_ignore_ascii_case("solid"));
+        if !starts_solid {
+            return Err(StlProblem::NotStl(format!(
+                "it is a text file that does not begin with `solid` as an ASCII STL does \
+                 (it begins `{}`)",
+                excerpt(first)
+            )));
+        }
+        return parse_ascii(&text);
+    }
+    parse_binary(bytes)
+}
+
+/// A few formats a tool file is mistaken for, by their first bytes.
+fn other_format(bytes: &[u8]) -> Option<&'static str> {
+    let signatures: [(&[u8], &str); 6] = [
+        (b"\x89PNG\r\n\x1a\n", "a PNG image"),
+        (b"\xff\xd8\xff", "a JPEG image"),
+        (b"%PDF", "a PDF document"),
+        (
+            b"PK\x03\x04",
+            "a ZIP archive (a 3MF file is one: export STL instead)",
+        ),
+        (b"\x1f\x8b", "gzip-compressed (uncompress it first)"),
+        (b"ISO-10303-21", "a STEP file (export STL instead)"),
+    ];
+    signatures
+        .iter()
+        .find(|(magic, _)| bytes.starts_with(magic))
+        .map(|(_, kind)| *kind)
+}
+
+/// Whether the bytes look like text: no NUL and no control character but tab, line feed,
+/// form feed and carriage return (a binary STL's floats and count hold such bytes).
+fn is_text(bytes: &[u8]) -> bool {
+    bytes
+        .iter()
+        .all(|&b| b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x0c))
+}
+
+fn binary_count(bytes: &[u8]) -> u64 {
+    u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64
+}
+
+/// The first 60 characters of a line, for a message.
+fn excerpt(line: &str) -> String {
+    let line = line.trim();
+    if line.chars().count() > 60 {
+        format!("{}…", line.chars().take(60).collect::<String>())
+    } else {
+        line.to_string()
+    }
+}
+
+fn parse_binary(bytes: &[u8]) -> Result<Vec<Triangle>, StlProblem> {
+    let actual = bytes.len() as u64;
+    if actual < 84 {
+        return Err(StlProblem::NotStl(format!(
+            "it is {actual} bytes of binary data, shorter than a binary STL's 84-byte header \
+             and triangle count, and not an ASCII STL"
+        )));
+    }
+    let count = binary_count(bytes);
+    if count > MAX_TRIANGLES {
+        return Err(StlProblem::TooManyTriangles {
+            count,
+            limit: MAX_TRIANGLES,
+        });
+    }
+    let expected = 84 + 50 * count;
+    if actual < expected {
+        return Err(StlProblem::Truncated {
+            count,
+            expected,
+            actual,
+        });
+    }
+    if actual > expected {
+        return Err(StlProblem::NotStl(format!(
+            "as a binary STL its header says {count} triangles, which take 84 + 50 × {count} = \
+             {expected} bytes, but the file holds {actual} bytes ({} more)",
+            actual - expected
+        )));
+    }
+    let f32_at =
+        |at: usize| f32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
+    let count = count as usize;
+    let mut soup = Vec::with_capacity(count);
+    for t in 0..count {
+        // Skip the stored normal (12 bytes): the winding says which way a triangle faces.
+        let base = 84 + 50 * t + 12;
+        let tri: Triangle =
+            std::array::from_fn(|c| std::array::from_fn(|i| f32_at(base + 12 * c + 4 * i) as f64));
+        if let Some(&value) = tri.iter().flatten().find(|v| !v.is_finite()) {
+            return Err(StlProblem::NotFinite {
+                triangle: t + 1,
+                count,
+                value,
+            });
+        }
+        soup.push(tri);
+    }
+    Ok(soup)
+}
+
+/// What an ASCII STL expects next.
+#[derive(Clone, Copy, PartialEq)]
+enum Expect {
+    Solid,
+    FacetOrEnd,
+    OuterLoop,
+    Vertex(usize),
+    EndLoop,
+    EndFacet,
+}
+
+impl Expect {
+    fn describe(self) -> &'static str {
+        match self {
+            Expect::Solid => "`solid NAME`",
+            Expect::FacetOrEnd => "`facet normal nx ny nz` or `endsolid`",
+            Expect::OuterLoop => "`outer loop`",
+            Expect::Vertex(_) => "`vertex x y z`",
+            Expect::EndLoop => "`endloop`",
+            Expect::EndFacet => "`endfacet`",
+        }
+    }
+}
+
+fn parse_ascii(text: &str) -> Result<Vec<Triangle>, StlProblem> {
+    let mut soup = Vec::new();
+    let mut expect = Expect::Solid;
+    let mut corners = [[0.0; 3]; 3];
+    let mut solids = 0;
+    let mut last_line = 0;
+    for (index, line) in text.lines().enumerate() {
+        let number = index + 1;
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let Some(first) = words.first() else {
+            continue;
+        };
+        last_line = number;
+        let is = |word: &str| first.eq_ignore_ascii_case(word);
+        let wrong = || StlProblem::AsciiLine {
+            line: number,
+            what: format!("expected {}, found `{}`", expect.describe(), excerpt(line)),
+        };
+        expect = match expect {
+            Expect::Solid if is("solid") => {
+                solids += 1;
+                Expect::FacetOrEnd
+            }
+            Expect::FacetOrEnd if is("endsolid") => Expect::Solid,
+            // The stored normal is not read: the winding says which way the triangle faces.
+            Expect::FacetOrEnd if is("facet") => Expect::OuterLoop,
+            Expect::OuterLoop
+                if words.len() == 2 && is("outer") && words[1].eq_ignore_ascii_case("loop") =>
+            {
+                Expect::Vertex(0)
+            }
+            Expect::Vertex(k) if is("vertex") && words.len() == 4 => {
+                corners[k] = vertex(&words[1..], number)?;
+                if k < 2 {
+                    Expect::Vertex(k + 1)
+                } else {
+                    Expect::EndLoop
+                }
+            }
+            Expect::EndLoop if is("endloop") && words.len() == 1 => Expect::EndFacet,
+            Expect::EndFacet if is("endfacet") && words.len() == 1 => {
+                soup.push(corners);
+                if soup.len() as u64 > MAX_TRIANGLES {
+                    return Err(StlProblem::TooManyAsciiTriangles {
+                        limit: MAX_TRIANGLES,
+                    });
+                }
+                Expect::FacetOrEnd
+            }
+            _ => return Err(wrong()),
+        };
+    }
+    if expect != Expect::Solid || solids == 0 {
+        return Err(StlProblem::AsciiLine {
+            line: last_line,
+            what: format!(
+                "the file ends here, where {} was expected (is it truncated?)",
+                expect.describe()
+            ),
+        });
+    }
+    Ok(soup)
+}
+
+/// The three coordinates of a `vertex` line.
+fn vertex(words: &[&str], line: usize) -> Result<[f64; 3], StlProblem> {
+    let mut p = [0.0; 3];
+    for (i, word) in words.iter().enumerate() {
+        let value: f64 = word.parse().map_err(|_| StlProblem::AsciiLine {
+            line,
+            what: format!("`{}` is not a number", excerpt(word)),
+        })?;
+        if !value.is_finite() {
+            return Err(StlProblem::AsciiLine {
+                line,
+                what: format!("the coordinate `{word}` is not a finite number"),
+            });
+        }
+        p[i] = value;
+    }
+    Ok(p)
+}
+
+/// The surface as binary STL bytes: each triangle's normal from its winding (unit length,
+/// zero for a degenerate triangle), coordinates as `f32`.
+pub fn to_binary(surface: &TriSurface) -> Vec<u8> {
+    let mut out = Vec::with_capacity(84 + 50 * surface.triangles.len());
+    // The header must not begin with `solid`, which would say ASCII to some readers.
+    let mut header = [b' '; 80];
+    let text = b"binary STL written by wovenform; mm; counter-clockwise seen from outside";
+    header[..text.len()].copy_from_slice(text);
+    out.extend_from_slice(&header);
+    out.extend_from_slice(&(surface.triangles.len() as u32).to_le_bytes());
+    for t in 0..surface.triangles.len() {
+        let [a, b, c] = surface.corners(t);
+        let (u, v) = (
+            [0, 1, 2].map(|i| b[i] - a[i]),
+            [0, 1, 2].map(|i| c[i] - a[i]),
+        );
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let n = if l > 0.0 { n.map(|x| x / l) } else { [0.0; 3] };
+        for x in n.iter().chain(a.iter()).chain(b.iter()).chain(c.iter()) {
+            out.extend_from_slice(&(*x as f32).to_le_bytes());
+        }
+        out.extend_from_slice(&[0, 0]);
+    }
+    out
+}
+
+/// Writes the surface as binary STL (see [`to_binary`]).
+pub fn write_binary(path: &Path, surface: &TriSurface) -> Result<(), StlError> {
+    let write = || -> std::io::Result<()> {
+        let mut file = std::io::BufWriter::new(std::fs::File::create(path)?);
+        file.write_all(&to_binary(surface))?;
+        file.flush()
+    };
+    write().map_err(|e| StlError {
+        path: path.to_path_buf(),
+        problem: StlProblem::Write(e),
+    })
+}
