@@ -117,7 +117,7 @@ pub fn write_run(
         design: &design,
         scene: &summary.scene,
         verdict: &summary.verdict,
-        tooling: *tooling,
+        tooling: tooling.clone(),
         stroke_mm: summary.stroke_mm,
     };
     let shear = dir.join("shear.png");

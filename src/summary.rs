@@ -189,6 +189,11 @@ impl RunSummary {
                 Num(t.axes[2]),
                 Num(t.rm)
             ),
+            ToolKind::Mesh => format!(
+                "punch {} · die {}",
+                t.file_name(&t.punch),
+                t.file_name(&t.die)
+            ),
         };
         let level = self
             .accuracy

@@ -41,7 +41,7 @@ fn setup(cases: &[Case], mu: f64) -> (Contact, Vec<[f64; 3]>, f64) {
             stroke: 10.0,
         },
         ToolMotion {
-            tool: die,
+            tool: die.clone(),
             tip_start: 0.0,
             stroke: 0.0,
         },
@@ -195,7 +195,7 @@ fn blocks_hold_in_the_corner_blend_of_a_box_punch() {
     // normal there; its derivative must still be the forces'.
     let punch = Tool::box_punch([60.0, 60.0], 5.0, 15.0, 0.0);
     let tools = vec![ToolMotion {
-        tool: punch,
+        tool: punch.clone(),
         tip_start: 0.0,
         stroke: 10.0,
     }];

@@ -26,7 +26,7 @@ fn the_developed_map_is_the_flat_blank_and_its_dashed_line_the_die_edge() {
     let ctx = MapContext {
         scene: "paper-box-open",
         verdict: "",
-        tooling: problem.tooling,
+        tooling: problem.tooling.clone(),
         stroke_mm: problem.stroke,
         design: "",
     };

@@ -43,7 +43,7 @@ fn holder_pull_out_force_is_two_mu_p_s() {
     }
     let mut model = Model::new(mesh, linear_fabric(), &prescribed.dofs).unwrap();
     let die_motion = ToolMotion {
-        tool: die,
+        tool: die.clone(),
         tip_start: 0.0,
         stroke: 0.0,
     };

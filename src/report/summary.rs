@@ -42,6 +42,10 @@ impl RunSummary {
                 "hemisphere punch, radius {} mm; die rm = {} mm, clearance {} mm",
                 t.radius, t.rm, t.clearance
             ),
+            ToolKind::Mesh => format!(
+                "punch {}, die {} (STL; distance lattice {} mm)",
+                t.punch, t.die, t.lattice
+            ),
         };
         let mut law = if s.fabric.undulation {
             "woven law (undulation)".to_string()

@@ -37,7 +37,12 @@ const SHARED_TOOL_KEYS: [&str; 2] = ["rm", "clearance"];
 
 impl ToolKind {
     /// Every kind of punch.
-    const ALL: [ToolKind; 3] = [ToolKind::Box, ToolKind::Ellipsoid, ToolKind::Hemisphere];
+    const ALL: [ToolKind; 4] = [
+        ToolKind::Box,
+        ToolKind::Ellipsoid,
+        ToolKind::Hemisphere,
+        ToolKind::Mesh,
+    ];
 
     /// The `[tools]` keys that describe this punch only (the others are shared).
     pub(super) fn own_keys(self) -> &'static [&'static str] {
@@ -45,6 +50,7 @@ impl ToolKind {
             ToolKind::Box => &["side", "r", "rp"],
             ToolKind::Ellipsoid => &["axes"],
             ToolKind::Hemisphere => &["radius"],
+            ToolKind::Mesh => &["punch", "die", "lattice"],
         }
     }
 
@@ -76,6 +82,18 @@ impl Scene {
             .rev()
             .find(|o| o.key == "tools.kind" || o.key == "tools");
         for name in tools.keys() {
+            if kind == ToolKind::Mesh && SHARED_TOOL_KEYS.contains(&name.as_str()) {
+                let key = format!("tools.{name}");
+                return Err(SceneError {
+                    origin: origin_of(&key),
+                    detail: format!(
+                        "{key}: not for tools.kind = \"mesh\" (the die's entry radius and the \
+                         clearance are in its STL); expected one of: {}",
+                        ToolKind::Mesh.own_keys().join(", ")
+                    ),
+                    key: Some(key),
+                });
+            }
             let Some(owner) = ToolKind::owner_of(name).filter(|&k| k != kind) else {
                 continue;
             };

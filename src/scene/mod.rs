@@ -47,6 +47,7 @@
 //! punch) and `validate.rs` (the physical bounds).
 
 mod keys;
+mod mesh_tools;
 mod overrides;
 mod types;
 mod validate;
@@ -137,7 +138,7 @@ impl Scene {
         }
         // Whose fault is a bad key: the last override that set it, else the file.
         let origin_of = |key: &str| blame(overrides, origin, &[key]);
-        let scene: Scene = serde_path_to_error::deserialize(toml::Value::Table(table.clone()))
+        let mut scene: Scene = serde_path_to_error::deserialize(toml::Value::Table(table.clone()))
             .map_err(|e| {
                 let path = e.path().to_string();
                 let message = e.inner().message().to_string();
@@ -145,6 +146,7 @@ impl Scene {
             })?;
         scene.check_kind_keys(&table, overrides, origin, &origin_of)?;
         scene.validate_with(&|keys: &[&str]| blame(overrides, origin, keys))?;
+        scene.read_mesh_tools(origin, &|keys: &[&str]| blame(overrides, origin, keys))?;
         Ok(scene)
     }
 

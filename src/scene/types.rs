@@ -181,6 +181,8 @@ pub enum ToolKind {
     Ellipsoid,
     /// A hemispherical punch.
     Hemisphere,
+    /// A punch and a die from STL files.
+    Mesh,
 }
 
 impl ToolKind {
@@ -190,6 +192,7 @@ impl ToolKind {
             ToolKind::Box => "box",
             ToolKind::Ellipsoid => "ellipsoid",
             ToolKind::Hemisphere => "hemisphere",
+            ToolKind::Mesh => "mesh",
         }
     }
 }
@@ -215,7 +218,28 @@ pub struct Tools {
     pub axes: [f64; 3],
     /// Hemisphere: radius, mm.
     pub radius: f64,
+    /// Mesh: the punch's STL file (relative to the scene file).
+    pub punch: String,
+    /// Mesh: the die's STL file (relative to the scene file).
+    pub die: String,
+    /// Mesh: spacing of the lattice the tools' distance is sampled on, mm.
+    pub lattice: f64,
+    /// Mesh: the tools read from `punch` and `die` (filled when the scene is loaded).
+    #[serde(skip)]
+    pub loaded: Option<LoadedTools>,
 }
+
+/// The mesh tools of a scene, read and checked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadedTools {
+    pub punch: std::sync::Arc<crate::core::tools::mesh_tool::MeshTool>,
+    pub die: std::sync::Arc<crate::core::tools::mesh_tool::MeshTool>,
+    /// The smallest radius of curvature of either where the fabric can touch it, mm.
+    pub smallest_radius_mm: f64,
+}
+
+/// The default spacing of a mesh tool's distance lattice, mm.
+pub const DEFAULT_LATTICE_MM: f64 = 0.5;
 
 /// Only the keys of the scene's kind of punch (and the shared ones), so that a written scene
 /// (`summary.json`'s `inputs`, `results.json`'s `base_scene`) reads back as a scene.
@@ -236,8 +260,14 @@ impl Serialize for Tools {
         if own.contains(&"radius") {
             m.serialize_entry("radius", &self.radius)?;
         }
-        m.serialize_entry("rm", &self.rm)?;
-        m.serialize_entry("clearance", &self.clearance)?;
+        if self.kind == ToolKind::Mesh {
+            m.serialize_entry("punch", &self.punch)?;
+            m.serialize_entry("die", &self.die)?;
+            m.serialize_entry("lattice", &self.lattice)?;
+        } else {
+            m.serialize_entry("rm", &self.rm)?;
+            m.serialize_entry("clearance", &self.clearance)?;
+        }
         m.end()
     }
 }
@@ -263,6 +293,10 @@ impl Default for Tools {
             clearance,
             axes: [40.0, 25.0, 20.0],
             radius: 30.0,
+            punch: String::new(),
+            die: String::new(),
+            lattice: DEFAULT_LATTICE_MM,
+            loaded: None,
         }
     }
 }
@@ -288,7 +322,22 @@ impl Tools {
                 rm: self.rm,
                 clearance: self.clearance,
             },
+            ToolKind::Mesh => {
+                let loaded = self
+                    .loaded
+                    .as_ref()
+                    .expect("a mesh scene's tools are read when it is loaded");
+                Tooling::Mesh {
+                    punch: loaded.punch.clone(),
+                    die: loaded.die.clone(),
+                }
+            }
         }
+    }
+
+    /// The last part of a tool file's path, for titles.
+    pub fn file_name<'a>(&self, path: &'a str) -> &'a str {
+        path.rsplit(['/', '\\']).next().unwrap_or(path)
     }
 
     /// The smallest radius of curvature the fabric is drawn over, mm: for the box its corner,
@@ -304,13 +353,14 @@ impl Tools {
                 (a[0] * a[0] / a[2]).min(self.rm)
             }
             ToolKind::Hemisphere => self.radius.min(self.rm),
+            ToolKind::Mesh => self.loaded.as_ref().map_or(0.0, |l| l.smallest_radius_mm),
         }
     }
 
     /// The punch's depth below its widest section, mm (`None` for the box, which is extruded).
     pub fn punch_depth(&self) -> Option<f64> {
         match self.kind {
-            ToolKind::Box => None,
+            ToolKind::Box | ToolKind::Mesh => None,
             ToolKind::Ellipsoid => Some(self.axes[2]),
             ToolKind::Hemisphere => Some(self.radius),
         }

@@ -183,7 +183,26 @@ impl Scene {
             ToolKind::Hemisphere => ok_if(pos(t.radius), || {
                 broken("tools.radius", Num(t.radius), "a punch radius > 0 mm")
             }),
+            ToolKind::Mesh => self.check_mesh_tools(),
         }
+    }
+
+    /// Mesh tools: both files named, a lattice fine enough for a tool's radii and coarse
+    /// enough to sample (the files themselves are read and checked by `mesh_tools.rs`).
+    fn check_mesh_tools(&self) -> Result<(), Broken> {
+        let t = &self.tools;
+        for (key, path) in [("tools.punch", &t.punch), ("tools.die", &t.die)] {
+            ok_if(!path.trim().is_empty(), || {
+                broken(key, "\"\"", "the path of an STL file (relative to the scene file)")
+            })?;
+        }
+        ok_if((0.05..=5.0).contains(&t.lattice), || {
+            broken(
+                "tools.lattice",
+                Num(t.lattice),
+                "a distance lattice spacing of 0.05 to 5 mm (a tenth of the smallest tool radius or finer)",
+            )
+        })
     }
 
     /// The box punch: its sides, and its radii within them.
@@ -262,6 +281,10 @@ impl Scene {
         ok_if(b.iter().all(|&v| pos(v)), || {
             broken("blank.size", size, "blank sides > 0 mm")
         })?;
+        if t.kind == ToolKind::Mesh {
+            // Where the blank rests is checked against the die's face when it is read.
+            return Ok(());
+        }
         let half = t.tooling().opening_half();
         let need = [2.0 * (half[0] + t.rm), 2.0 * (half[1] + t.rm)];
         ok_if(b[0] > need[0] && b[1] > need[1], || {

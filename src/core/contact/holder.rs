@@ -7,7 +7,7 @@
 use crate::core::tools::Tool;
 
 /// The blank holder.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Holder {
     /// Pressure on the flange, MPa (N/mm²).
     pub pressure: f64,

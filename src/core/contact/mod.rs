@@ -17,7 +17,7 @@ use super::solver::{NodalSums, NodalTerms, NodeBlock};
 use super::tools::Tool;
 
 /// One tool's role in the drawing.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ToolMotion {
     pub tool: Tool,
     /// Tip height at load 0 and its change at full load (punches; 0 for dies).
@@ -34,7 +34,7 @@ impl ToolMotion {
         if self.tool.is_punch() {
             self.tool.at_tip(self.tip(lambda))
         } else {
-            self.tool
+            self.tool.clone()
         }
     }
 
@@ -326,7 +326,7 @@ impl Contact {
                 pair.lag_normal = normal;
             }
         }
-        if let Some(h) = self.holder {
+        if let Some(h) = &self.holder {
             for &i in &self.held {
                 let i = i as usize;
                 self.frozen_weight[i] = h.weight(x[i][0], x[i][1]).0;

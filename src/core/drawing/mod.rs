@@ -21,9 +21,11 @@ use super::law::{CellLaw, CellParams};
 use super::mesh::Mesh;
 use super::solver::{LinearPrescribed, Model, SolveStats, Solver, SolverOptions};
 use super::tools::Tool;
+use super::tools::mesh_tool::MeshTool;
+use std::sync::Arc;
 
 /// The punch and die pair.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Tooling {
     /// A square (rectangular) box: punch sides `side` (mm), plan corner radius `r`, nose radius
     /// `rp`; die entry radius `rm`; die opening `side + 2·clearance`.
@@ -46,6 +48,11 @@ pub enum Tooling {
         radius: f64,
         rm: f64,
         clearance: f64,
+    },
+    /// A punch and a die from triangle surfaces (STL), placed by the user.
+    Mesh {
+        punch: Arc<MeshTool>,
+        die: Arc<MeshTool>,
     },
 }
 
@@ -82,6 +89,19 @@ impl Tooling {
                 },
                 Tool::elliptic_die([radius, radius], clearance, rm),
             ),
+            Tooling::Mesh {
+                ref punch,
+                ref die,
+            } => (
+                Tool::Mesh {
+                    shape: punch.clone(),
+                    tip: 0.0,
+                },
+                Tool::Mesh {
+                    shape: die.clone(),
+                    tip: 0.0,
+                },
+            ),
         }
     }
 
@@ -97,6 +117,10 @@ impl Tooling {
             Tooling::Hemisphere {
                 radius, clearance, ..
             } => [radius + clearance; 2],
+            Tooling::Mesh { ref die, .. } => die
+                .flange
+                .as_ref()
+                .map_or([0.0; 2], |f| f.opening_half()),
         }
     }
 }
@@ -175,7 +199,11 @@ impl DrawingProblem {
         match self.symmetry {
             Symmetry::Full => false,
             Symmetry::Quarter => true,
-            Symmetry::Auto => (self.yarn_angle_deg - 90.0).abs() < 1e-9,
+            // A mesh tool's symmetry is not known: the whole blank unless asked.
+            Symmetry::Auto => {
+                (self.yarn_angle_deg - 90.0).abs() < 1e-9
+                    && !matches!(self.tooling, Tooling::Mesh { .. })
+            }
         }
     }
 
@@ -242,7 +270,7 @@ impl DrawingProblem {
                 stroke: self.stroke,
             },
             ToolMotion {
-                tool: die,
+                tool: die.clone(),
                 tip_start: 0.0,
                 stroke: 0.0,
             },

@@ -8,8 +8,8 @@ impl Tooling {
         const N: usize = 24; // points per quarter turn
         let half = self.opening_half();
         let mut pts = Vec::with_capacity(4 * N + 1);
-        match *self {
-            Tooling::Box { r, clearance, .. } => {
+        match self {
+            &Tooling::Box { r, clearance, .. } => {
                 let rc = (r + clearance).min(half[0]).min(half[1]);
                 let centres = [
                     [half[0] - rc, half[1] - rc],
@@ -24,7 +24,7 @@ impl Tooling {
                     }
                 }
             }
-            Tooling::Ellipsoid {
+            &Tooling::Ellipsoid {
                 axes, clearance, ..
             } => {
                 let (a, b) = (axes[0], axes[1]);
@@ -40,6 +40,29 @@ impl Tooling {
                 for i in 0..4 * N {
                     let t = i as f64 / (4 * N) as f64 * std::f64::consts::TAU;
                     pts.push([half[0] * t.cos(), half[1] * t.sin()]);
+                }
+            }
+            Tooling::Mesh { die, .. } => {
+                // Where the face begins along rays from the centre (an opening star-shaped
+                // about it), by bisection of the flange's distance.
+                if let Some(f) = die.flange.as_ref() {
+                    let far = 2.0 * (die.bounds.1[0] - die.bounds.0[0]).max(die.bounds.1[1] - die.bounds.0[1]);
+                    for i in 0..16 * N {
+                        let t = i as f64 / (16 * N) as f64 * std::f64::consts::TAU;
+                        let (c, s) = (t.cos(), t.sin());
+                        let on_face = |r: f64| f.distance(r * c, r * s).0 >= 0.0;
+                        let mut r = 0.0;
+                        let step = 0.5;
+                        while r < far && !on_face(r + step) {
+                            r += step;
+                        }
+                        let (mut a, mut b) = (r, r + step);
+                        for _ in 0..30 {
+                            let m = 0.5 * (a + b);
+                            if on_face(m) { b = m } else { a = m }
+                        }
+                        pts.push([b * c, b * s]);
+                    }
                 }
             }
         }

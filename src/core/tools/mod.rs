@@ -14,6 +14,10 @@
 //! ```
 
 pub mod capped;
+pub mod flange;
+pub mod mesh_tool;
+pub mod nearest;
+pub mod sampled;
 pub mod surface;
 pub mod tessellate;
 
@@ -207,7 +211,7 @@ impl PlanShape {
 }
 
 /// A rigid tool.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Tool {
     /// A flat-nosed punch: plan shape extruded upward from its nose at `z = tip`, the nose edge
     /// rounded with radius `nose_radius`.
@@ -223,6 +227,11 @@ pub enum Tool {
     Die {
         opening: PlanShape,
         entry_radius: f64,
+    },
+    /// A tool from a triangle surface (a punch's lowest point at `z = tip`; a die in place).
+    Mesh {
+        shape: std::sync::Arc<mesh_tool::MeshTool>,
+        tip: f64,
     },
 }
 
@@ -278,7 +287,11 @@ impl Tool {
                 tip: z,
             },
             Tool::EllipsoidPunch { axes, .. } => Tool::EllipsoidPunch { axes, tip: z },
-            die => die,
+            Tool::Mesh { ref shape, .. } if shape.role == mesh_tool::Role::Punch => Tool::Mesh {
+                shape: shape.clone(),
+                tip: z,
+            },
+            ref die => die.clone(),
         }
     }
 
@@ -293,12 +306,21 @@ impl Tool {
                 let pl = opening.plan(x, y);
                 Some((pl.d, pl.g, *entry_radius))
             }
+            // The flange's signed distance starts where the face does: no entry radius to add.
+            Tool::Mesh { shape, .. } => shape.flange.as_ref().map(|f| {
+                let (d, g) = f.distance(x, y);
+                (d, g, 0.0)
+            }),
             _ => None,
         }
     }
 
     pub fn is_punch(&self) -> bool {
-        !matches!(self, Tool::Die { .. })
+        match self {
+            Tool::Die { .. } => false,
+            Tool::Mesh { shape, .. } => shape.role == mesh_tool::Role::Punch,
+            _ => true,
+        }
     }
 
     /// Signed distance and outward normal at `p`.
@@ -331,6 +353,10 @@ impl Tool {
                 let c = [0.0, 0.0, tip + axes[2]];
                 ellipsoid_distance(axes, [p[0] - c[0], p[1] - c[1], p[2] - c[2]])
             }
+            Tool::Mesh { ref shape, tip } => {
+                let e = shape.distance.evaluate([p[0], p[1], p[2] - tip], false);
+                Distance { d: e.d, n: e.n }
+            }
         }
     }
 
@@ -353,7 +379,7 @@ impl Tool {
                 -opening.plan(p[0], p[1]).d + entry_radius,
                 p[2] + entry_radius,
             ),
-            Tool::EllipsoidPunch { .. } => return false,
+            Tool::EllipsoidPunch { .. } | Tool::Mesh { .. } => return false,
         };
         // The face's branch of the rounded intersection: off the rounded edge (u ≤ 0) and nearer
         // the face than the side (v > u), each with room to spare.
@@ -363,6 +389,11 @@ impl Tool {
     /// The Hessian of the signed distance (the curvature of the surface, `∂n/∂x`) at `p`, by
     /// central differences of the analytic normal (zero on a flat face).
     pub fn curvature(&self, p: [f64; 3], scale: f64) -> [[f64; 3]; 3] {
+        if let Tool::Mesh { shape, tip } = self {
+            // The interpolant's own Hessian.
+            let e = shape.distance.evaluate([p[0], p[1], p[2] - tip], true);
+            return e.hessian.unwrap_or([[0.0; 3]; 3]);
+        }
         let h = 1e-5 * scale.max(1e-3);
         if self.on_flat_face(p, 10.0 * h) {
             return [[0.0; 3]; 3];

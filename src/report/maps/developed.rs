@@ -75,6 +75,8 @@ impl MaterialLine {
         let (rm, nose) = match *tooling {
             Tooling::Box { rm, rp, .. } => (rm, Some(rp)),
             Tooling::Ellipsoid { rm, .. } | Tooling::Hemisphere { rm, .. } => (rm, None),
+            // A mesh tool's radii are not known: no line.
+            Tooling::Mesh { .. } => return Vec::new(),
         };
         let mut lines = Vec::new();
         if stroke > rm {

@@ -73,6 +73,7 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
             t.axes[0], t.axes[1], t.axes[2]
         ),
         ToolKind::Hemisphere => format!("hemisphere punch, radius {} mm", t.radius),
+        ToolKind::Mesh => format!("punch {}, die {} (STL)", t.file_name(&t.punch), t.file_name(&t.die)),
     };
     let law = if base.fabric.undulation {
         "woven law"
