@@ -89,8 +89,12 @@ impl Scene {
             tool(&path, role, t.lattice)
                 .map_err(|e| fail(key, &[key], format!("{key} = \"{file}\": {e}")))
         };
-        let punch = read("tools.punch", &t.punch, Role::Punch)?;
-        let die = read("tools.die", &t.die, Role::Die)?;
+        // The two files are read side by side.
+        let (punch, die) = rayon::join(
+            || read("tools.punch", &t.punch, Role::Punch),
+            || read("tools.die", &t.die, Role::Die),
+        );
+        let (punch, die) = (punch?, die?);
         let stroke = self.process.stroke;
         let pair_key = (
             Arc::as_ptr(&punch) as usize,

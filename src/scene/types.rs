@@ -239,7 +239,7 @@ pub struct LoadedTools {
 }
 
 /// The default spacing of a mesh tool's distance lattice, mm.
-pub const DEFAULT_LATTICE_MM: f64 = 0.5;
+pub const DEFAULT_LATTICE_MM: f64 = 1.0;
 
 /// Only the keys of the scene's kind of punch (and the shared ones), so that a written scene
 /// (`summary.json`'s `inputs`, `results.json`'s `base_scene`) reads back as a scene.

@@ -4,7 +4,7 @@
 //! (Bærentzen & Aanæs 2005), which is right for any closed, outward-facing surface.
 
 use bvh::aabb::{Aabb, Bounded};
-use bvh::bounding_hierarchy::BHShape;
+use bvh::bounding_hierarchy::{BHShape, BoundingHierarchy};
 use bvh::bvh::Bvh;
 use bvh::point_query::PointDistance;
 use nalgebra::Point3;
@@ -163,7 +163,7 @@ impl ExactDistance {
                 node: 0,
             })
             .collect();
-        let bvh = Bvh::build(&mut facets);
+        let bvh = Bvh::build_par(&mut facets);
         let face_normal: Vec<V3> = facets
             .iter()
             .map(|f| {
@@ -172,14 +172,14 @@ impl ExactDistance {
             })
             .collect();
         let mut vertex_normal = vec![[0.0; 3]; surface.vertices.len()];
-        let mut by_edge: std::collections::HashMap<(u32, u32), V3> =
-            std::collections::HashMap::with_capacity(3 * triangles.len() / 2 + 8);
+        // Each edge as (low vertex, high vertex, triangle, side), sorted: the two triangles of
+        // an edge of a closed surface lie next to each other.
+        let mut edges: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(3 * triangles.len());
         for (t, tri) in triangles.iter().enumerate() {
             let corners = facets[t].corners;
             for k in 0..3 {
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                let e = by_edge.entry((a.min(b), a.max(b))).or_insert([0.0; 3]);
-                add_scaled(e, 1.0, face_normal[t]);
+                edges.push((a.min(b), a.max(b), t as u32, k as u8));
                 let (u, w) = (
                     unit(sub(corners[(k + 1) % 3], corners[k])),
                     unit(sub(corners[(k + 2) % 3], corners[k])),
@@ -188,15 +188,17 @@ impl ExactDistance {
                 add_scaled(&mut vertex_normal[a as usize], angle, face_normal[t]);
             }
         }
-        let edge_normal = triangles
-            .iter()
-            .map(|tri| {
-                [0, 1, 2].map(|k| {
-                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                    by_edge[&(a.min(b), a.max(b))]
-                })
-            })
-            .collect();
+        edges.sort_unstable();
+        let mut edge_normal = vec![[[0.0; 3]; 3]; triangles.len()];
+        for group in edges.chunk_by(|x, y| x.0 == y.0 && x.1 == y.1) {
+            let mut sum = [0.0; 3];
+            for e in group {
+                add_scaled(&mut sum, 1.0, face_normal[e.2 as usize]);
+            }
+            for e in group {
+                edge_normal[e.2 as usize][e.3 as usize] = sum;
+            }
+        }
         ExactDistance {
             facets,
             bvh,

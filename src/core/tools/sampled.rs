@@ -121,6 +121,11 @@ impl SampledDistance {
         &self.exact
     }
 
+    /// The lattice's first node, mm (the others at whole spacings from it).
+    pub fn lattice_origin(&self) -> V3 {
+        self.origin
+    }
+
     /// The lattice spacing, mm.
     pub fn spacing(&self) -> f64 {
         self.spacing
