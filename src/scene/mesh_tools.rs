@@ -84,17 +84,15 @@ impl Scene {
             detail,
         };
         let t = &self.tools;
-        let read = |key: &str, file: &str, role| {
-            let path = resolve(origin, file);
-            tool(&path, role, t.lattice)
-                .map_err(|e| fail(key, &[key], format!("{key} = \"{file}\": {e}")))
-        };
+        let read = |file: &str, role| tool(&resolve(origin, file), role, t.lattice);
         // The two files are read side by side.
         let (punch, die) = rayon::join(
-            || read("tools.punch", &t.punch, Role::Punch),
-            || read("tools.die", &t.die, Role::Die),
+            || read(&t.punch, Role::Punch),
+            || read(&t.die, Role::Die),
         );
-        let (punch, die) = (punch?, die?);
+        let named = |key: &str, file: &str, e: String| fail(key, &[key], format!("{key} = \"{file}\": {e}"));
+        let punch = punch.map_err(|e| named("tools.punch", &t.punch, e))?;
+        let die = die.map_err(|e| named("tools.die", &t.die, e))?;
         let stroke = self.process.stroke;
         let pair_key = (
             Arc::as_ptr(&punch) as usize,
