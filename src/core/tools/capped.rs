@@ -39,26 +39,28 @@ pub fn tool_surfaces(
 ) -> (TriSurface, TriSurface) {
     let (punch, die) = tooling.tools();
     let [(punch_plan, z_range), (die_plan, _)] = boxes(tooling, blank, stroke_mm);
-    (
-        capped_surface(&punch, punch_plan, z_range, spacing_mm),
-        capped_surface(&die, die_plan, z_range, spacing_mm),
-    )
+    let surface = |tool: Tool, plan| {
+        let field = move |p: [f64; 3]| tool.distance(p).d;
+        capped_surface(&field, tool.is_punch(), plan, z_range, spacing_mm)
+    };
+    (surface(punch, punch_plan), surface(die, die_plan))
 }
 
-/// `tool` cut by the box `|x| ≤ plan[0]`, `|y| ≤ plan[1]`, `z_range[0] ≤ z ≤ z_range[1]`,
-/// tessellated on a grid of `spacing_mm` over the part of the box where the tool is: above
-/// z = 0 for a punch, below for a die.
+/// The tool of signed field `field` (a punch above z = 0 when `is_punch`, else a die below
+/// it) cut by the box `|x| ≤ plan[0]`, `|y| ≤ plan[1]`, `z_range[0] ≤ z ≤ z_range[1]` and
+/// tessellated on a grid of `spacing_mm` laid as the module's note says.
 pub fn capped_surface(
-    tool: &Tool,
+    field: &(dyn Fn([f64; 3]) -> f64 + Sync),
+    is_punch: bool,
     plan: [f64; 2],
     z_range: [f64; 2],
     spacing_mm: f64,
 ) -> TriSurface {
     let lo = [-plan[0], -plan[1], z_range[0]];
     let hi = [plan[0], plan[1], z_range[1]];
-    let field = |p: [f64; 3]| capped(tool.distance(p).d, box_field(p, lo, hi));
-    let (grid_lo, grid_hi) = grid_box(tool.is_punch(), plan, z_range, spacing_mm);
-    tessellate(&field, grid_lo, grid_hi, spacing_mm)
+    let cut = |p: [f64; 3]| capped(field(p), box_field(p, lo, hi));
+    let (grid_lo, grid_hi) = grid_box(is_punch, plan, z_range, spacing_mm);
+    tessellate(&cut, grid_lo, grid_hi, spacing_mm)
 }
 
 /// The box of the grid that [`capped_surface`] samples: the punch lies above z = 0 and the
