@@ -17,6 +17,7 @@ mod progress;
 mod run;
 mod scene_args;
 mod sweep;
+mod tools;
 mod tui;
 
 use clap::{Parser, Subcommand};
@@ -60,6 +61,9 @@ pub enum Command {
     /// Solve a scene on a ladder of mesh sizes and of load-step counts: each rung's error
     /// against a Richardson extrapolation, next to its run time (converge.csv, converge.png).
     Converge(converge::ConvergeArgs),
+    /// Write the scene's punch and die as closed triangle surfaces: punch.stl and die.stl
+    /// (binary STL, mm) in --out, tessellated on a grid of --spacing mm.
+    Tools(tools::ToolsArgs),
     /// The terminal explorer on a sweep file (without one: the paper's square box). Also what
     /// `wovenform` alone opens in a terminal.
     Tui(tui::TuiArgs),
@@ -78,5 +82,6 @@ pub fn exec(cli: Cli) -> Result<(), CliError> {
         Some(Command::Fit(args)) => fit::exec(args),
         Some(Command::Bias(args)) => bias::exec(args),
         Some(Command::Bench(args)) => bench::exec(args),
+        Some(Command::Tools(args)) => tools::exec(args),
     }
 }

@@ -38,52 +38,79 @@ pub fn tool_surfaces(
     spacing_mm: f64,
 ) -> (TriSurface, TriSurface) {
     let (punch, die) = tooling.tools();
-    let opening = tooling.opening_half();
-    let depth = stroke_mm + DEPTH_MARGIN_MM;
-    let plan = [
-        opening[0] + PUNCH_PLAN_MARGIN_MM,
-        opening[1] + PUNCH_PLAN_MARGIN_MM,
-    ];
-    let punch_surface = capped_surface(&punch, plan, [-depth, depth], spacing_mm);
-    let plan = [
-        0.5 * blank[0] + DIE_PLAN_MARGIN_MM,
-        0.5 * blank[1] + DIE_PLAN_MARGIN_MM,
-    ];
-    let die_surface = capped_surface(&die, plan, [-depth, depth], spacing_mm);
-    (punch_surface, die_surface)
+    let [(punch_plan, z_range), (die_plan, _)] = boxes(tooling, blank, stroke_mm);
+    let surface = |tool: Tool, plan| {
+        let is_punch = tool.is_punch();
+        let field = move |p: [f64; 3]| tool.distance(p).d;
+        capped_surface(&field, is_punch, plan, z_range, spacing_mm)
+    };
+    (surface(punch, punch_plan), surface(die, die_plan))
 }
 
-/// `tool` cut by the box `|x| ≤ plan[0]`, `|y| ≤ plan[1]`, `z_range[0] ≤ z ≤ z_range[1]`,
-/// tessellated on a grid of `spacing_mm` over the part of the box where the tool is: above
-/// z = 0 for a punch, below for a die.
+/// The tool of signed field `field` (a punch above z = 0 when `is_punch`, else a die below
+/// it) cut by the box `|x| ≤ plan[0]`, `|y| ≤ plan[1]`, `z_range[0] ≤ z ≤ z_range[1]` and
+/// tessellated on a grid of `spacing_mm` laid as the module's note says.
 pub fn capped_surface(
-    tool: &Tool,
+    field: &(dyn Fn([f64; 3]) -> f64 + Sync),
+    is_punch: bool,
     plan: [f64; 2],
     z_range: [f64; 2],
     spacing_mm: f64,
 ) -> TriSurface {
     let lo = [-plan[0], -plan[1], z_range[0]];
     let hi = [plan[0], plan[1], z_range[1]];
-    let field = |p: [f64; 3]| capped(tool.distance(p).d, box_field(p, lo, hi));
-    // The punch lies above z = 0 and the die below it: the grid covers that side and one
-    // cell and a half of the other.
-    let (z_lo, z_hi) = if tool.is_punch() {
+    let cut = |p: [f64; 3]| capped(field(p), box_field(p, lo, hi));
+    let (grid_lo, grid_hi) = grid_box(is_punch, plan, z_range, spacing_mm);
+    tessellate(&cut, grid_lo, grid_hi, spacing_mm)
+}
+
+/// The box of the grid that [`capped_surface`] samples: the punch lies above z = 0 and the
+/// die below it, so the grid covers that side and a cell and a half of the other.
+fn grid_box(is_punch: bool, plan: [f64; 2], z_range: [f64; 2], h: f64) -> ([f64; 3], [f64; 3]) {
+    let (z_lo, z_hi) = if is_punch {
         (0.0, z_range[1])
     } else {
         (z_range[0], 0.0)
     };
-    let h = spacing_mm;
-    let grid_lo = [
+    let lo = [
         -half_cell_beyond(plan[0], h),
         -half_cell_beyond(plan[1], h),
         -half_cell_beyond(-z_lo, h),
     ];
-    let grid_hi = [
+    let hi = [
         half_cell_beyond(plan[0], h),
         half_cell_beyond(plan[1], h),
         half_cell_beyond(z_hi, h),
     ];
-    tessellate(&field, grid_lo, grid_hi, h)
+    (lo, hi)
+}
+
+/// The grid points that [`tool_surfaces`] samples for the larger of its two tools (each takes
+/// a `f64` and a `u32` of memory, with the surface's vertices and triangles on top).
+pub fn grid_points(tooling: &Tooling, blank: [f64; 2], stroke_mm: f64, spacing_mm: f64) -> f64 {
+    let [(punch_plan, z_range), (die_plan, _)] = boxes(tooling, blank, stroke_mm);
+    let count = |is_punch, plan| {
+        let (lo, hi) = grid_box(is_punch, plan, z_range, spacing_mm);
+        (0..3)
+            .map(|i| ((hi[i] - lo[i]) / spacing_mm).round() + 1.0)
+            .product::<f64>()
+    };
+    count(true, punch_plan).max(count(false, die_plan))
+}
+
+/// The capping boxes of the punch and the die: plan half sides and z range.
+fn boxes(tooling: &Tooling, blank: [f64; 2], stroke_mm: f64) -> [([f64; 2], [f64; 2]); 2] {
+    let opening = tooling.opening_half();
+    let depth = stroke_mm + DEPTH_MARGIN_MM;
+    let punch_plan = [
+        opening[0] + PUNCH_PLAN_MARGIN_MM,
+        opening[1] + PUNCH_PLAN_MARGIN_MM,
+    ];
+    let die_plan = [
+        0.5 * blank[0] + DIE_PLAN_MARGIN_MM,
+        0.5 * blank[1] + DIE_PLAN_MARGIN_MM,
+    ];
+    [(punch_plan, [-depth, depth]), (die_plan, [-depth, depth])]
 }
 
 #[cfg(test)]

@@ -14,6 +14,7 @@
 //! ```
 
 pub mod capped;
+pub mod double_dome;
 pub mod flange;
 pub mod mesh_tool;
 pub mod nearest;

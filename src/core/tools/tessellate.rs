@@ -98,7 +98,9 @@ impl Grid {
 /// cell grown by half a cell on each side; otherwise it keeps the mean point. On a smooth part
 /// of the surface every vertex lies on it to rounding; on a sharp edge (where a box caps a tool)
 /// the vertices lie on one of the faces and the edge itself is cut by a chamfer of about one
-/// cell. Features thinner than a cell are lost.
+/// cell. Features thinner than a cell are lost; where one is about a cell thick, a grid face
+/// whose diagonal corners alone are inside would give an edge of four triangles, which
+/// [`TriSurface::check`] refuses (a finer spacing resolves it).
 pub fn tessellate(
     field: &(dyn Fn([f64; 3]) -> f64 + Sync),
     lo: [f64; 3],
