@@ -7,6 +7,7 @@ use clap::Args;
 
 use super::CliError;
 use super::scene_args::SceneArgs;
+use wovenform::core::drawing::Tooling;
 use wovenform::core::tools::capped::{grid_points, tool_surfaces};
 use wovenform::core::tools::surface::TriSurface;
 use wovenform::machine::memory_budget_bytes;
@@ -40,6 +41,17 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
     }
     .load()?;
     let problem = scene.to_problem();
+    if let Tooling::Mesh { punch, die } = &problem.tooling {
+        // Tools read from STL are written back as read.
+        make_folder(&args.out)?;
+        for (name, tool) in [("punch", punch), ("die", die)] {
+            let path = args.out.join(format!("{name}.stl"));
+            let surface = tool.surface();
+            write(&path, &surface, &args.scene)?;
+            println!("{}: {} triangles (as read from {})", path.display(), surface.triangles.len(), tool.name);
+        }
+        return Ok(());
+    }
     check_spacing(
         args.spacing,
         scene.tools.smallest_radius_mm(),
@@ -50,12 +62,7 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
             args.spacing,
         ),
     )?;
-    std::fs::create_dir_all(&args.out).map_err(|e| {
-        CliError::bad_input(format!(
-            "{}: cannot create the output folder: {e}",
-            args.out.display()
-        ))
-    })?;
+    make_folder(&args.out)?;
     let start = std::time::Instant::now();
     let (punch, die) = tool_surfaces(
         &problem.tooling,
@@ -76,6 +83,12 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
     }
     eprintln!("tessellated in {wall_s:.2} s");
     Ok(())
+}
+
+fn make_folder(out: &Path) -> Result<(), CliError> {
+    std::fs::create_dir_all(out).map_err(|e| {
+        CliError::bad_input(format!("{}: cannot create the output folder: {e}", out.display()))
+    })
 }
 
 /// Refuses a spacing that is not a positive length, that is coarser than the tools' smallest

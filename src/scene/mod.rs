@@ -146,7 +146,10 @@ impl Scene {
             })?;
         scene.check_kind_keys(&table, overrides, origin, &origin_of)?;
         scene.validate_with(&|keys: &[&str]| blame(overrides, origin, keys))?;
-        scene.read_mesh_tools(origin, &|keys: &[&str]| blame(overrides, origin, keys))?;
+        if scene.tools.kind == ToolKind::Mesh {
+            scene.read_mesh_tools(origin, &|keys: &[&str]| blame(overrides, origin, keys))?;
+            scene.validate_with(&|keys: &[&str]| blame(overrides, origin, keys))?;
+        }
         Ok(scene)
     }
 

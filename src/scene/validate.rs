@@ -341,6 +341,10 @@ impl Scene {
 
     /// The mesh fits in the machine's memory budget, checked before anything is allocated.
     fn check_size(&self) -> Result<(), Broken> {
+        if self.tools.kind == ToolKind::Mesh && self.tools.loaded.is_none() {
+            // Checked again once the tools are read (the blank is solved whole).
+            return Ok(());
+        }
         let budget = crate::machine::memory_budget_bytes();
         crate::machine::check_fits(&self.to_problem(), budget)
             .map_err(|detail| broken_with(&["mesh.element_size", "blank.size"], detail))

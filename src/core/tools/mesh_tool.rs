@@ -140,6 +140,14 @@ impl MeshTool {
         })
     }
 
+    /// The tool's surface as read.
+    pub fn surface(&self) -> TriSurface {
+        TriSurface {
+            vertices: self.vertices.clone(),
+            triangles: self.distance.exact().triangles().to_vec(),
+        }
+    }
+
     /// The smallest radius of curvature among the surface's vertices within the box
     /// `[lo, hi]` (mm), from how fast the vertex normals turn along each edge,
     /// `|n_a − n_b| / |a − b|` (exact on a tessellated sphere). The 0.5 % quantile is taken so

@@ -13,7 +13,7 @@
 //! well inside the band, so these bounds never carry a force.
 
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 
 use super::nearest::ExactDistance;
 use super::surface::TriSurface;
@@ -23,8 +23,9 @@ type M3 = [[f64; 3]; 3];
 
 /// Samples per page side.
 const P: usize = 8;
-/// A sample not computed yet (a NaN no distance takes).
-const UNSET: u64 = u64::MAX;
+/// A sample not computed yet (a NaN no distance takes). Samples are kept in single precision
+/// (7 digits: 1e-5 mm on a 100 mm tool), which halves the memory the interpolation reads.
+const UNSET: u32 = u32::MAX;
 
 /// What a page's centre tells of the page.
 #[derive(Clone, Copy)]
@@ -40,7 +41,7 @@ struct PageInfo {
 
 struct Page {
     centre: OnceLock<PageInfo>,
-    samples: OnceLock<Box<[AtomicU64]>>,
+    samples: OnceLock<Box<[AtomicU32]>>,
 }
 
 /// The smooth signed distance of a closed triangle surface.
@@ -162,17 +163,17 @@ impl SampledDistance {
         }
     }
 
-    fn page_samples(&self, page: usize) -> &[AtomicU64] {
+    fn page_samples(&self, page: usize) -> &[AtomicU32] {
         self.pages[page]
             .samples
-            .get_or_init(|| (0..P * P * P).map(|_| AtomicU64::new(UNSET)).collect())
+            .get_or_init(|| (0..P * P * P).map(|_| AtomicU32::new(UNSET)).collect())
     }
 
     /// The exact distance at lattice node `i`, kept in `samples[local]`.
-    fn compute(&self, samples: &[AtomicU64], local: usize, i: [usize; 3]) -> f64 {
+    fn compute(&self, samples: &[AtomicU32], local: usize, i: [usize; 3]) -> f64 {
         let x = [0, 1, 2].map(|a| self.origin[a] + i[a] as f64 * self.spacing);
         let d = self.exact.query(x).d;
-        samples[local].store(d.to_bits(), Ordering::Relaxed);
+        samples[local].store((d as f32).to_bits(), Ordering::Relaxed);
         self.computed.fetch_add(1, Ordering::Relaxed);
         d
     }
@@ -235,7 +236,7 @@ impl SampledDistance {
             for &y in &iy {
                 let row = ((z / P) * a[1] + y / P) * a[0];
                 let local_row = ((z % P) * P + y % P) * P;
-                let mut current: Option<(usize, &[AtomicU64])> = None;
+                let mut current: Option<(usize, &[AtomicU32])> = None;
                 for &x in &ix {
                     let page = row + x / P;
                     let samples = match current {
@@ -249,7 +250,7 @@ impl SampledDistance {
                     let local = local_row + x % P;
                     let bits = samples[local].load(Ordering::Relaxed);
                     out[n] = if bits != UNSET {
-                        f64::from_bits(bits)
+                        f32::from_bits(bits) as f64
                     } else {
                         self.compute(samples, local, [x, y, z])
                     };
