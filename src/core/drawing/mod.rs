@@ -342,6 +342,8 @@ pub fn solve(problem: &DrawingProblem, progress: &mut dyn FnMut(f64)) -> Drawing
 pub enum LeftOut {
     /// The whole blank is solved: the yarns are not along both axes.
     QuarterSymmetry,
+    /// The whole blank is solved: the tools are meshes, whose symmetry is not known.
+    QuarterSymmetryUnknown,
     /// The linear yarn law `T = C max(ε, 0)` stands for the woven one.
     Undulation,
     /// No blank holder (pressure 0).
@@ -354,6 +356,9 @@ impl std::fmt::Display for LeftOut {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             LeftOut::QuarterSymmetry => "quarter symmetry (yarns not along both axes)",
+            LeftOut::QuarterSymmetryUnknown => {
+                "quarter symmetry (mesh tools: the whole blank unless mesh.symmetry = \"quarter\")"
+            }
             LeftOut::Undulation => "undulation (the linear yarn law is used)",
             LeftOut::Holder => "blank holder (pressure 0)",
             LeftOut::Friction => "friction (μ = 0)",
@@ -418,7 +423,11 @@ impl DrawingProblem {
     fn left_out(&self) -> Vec<LeftOut> {
         let mut left_out = Vec::new();
         if !self.quarter_applies() {
-            left_out.push(LeftOut::QuarterSymmetry);
+            left_out.push(if matches!(self.tooling, Tooling::Mesh { .. }) {
+                LeftOut::QuarterSymmetryUnknown
+            } else {
+                LeftOut::QuarterSymmetry
+            });
         }
         if !self.fabric.undulation {
             left_out.push(LeftOut::Undulation);

@@ -11,6 +11,9 @@ use super::surface::TriSurface;
 /// How far a punch's lowest point or a die's highest may lie from z = 0, mm.
 pub const PLACEMENT_TOL_MM: f64 = 0.05;
 
+/// How far into the stroke the punch is checked for starting inside the die, mm.
+pub const START_MM: f64 = 0.1;
+
 /// What a mesh tool is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Role {
@@ -27,17 +30,18 @@ pub enum PlacementError {
     )]
     PunchNotAtBlank { lowest_mm: f64 },
     #[error(
-        "the die rises above its face: its highest point is at z = {highest_mm:.4} mm; expected \
-         its top face (where the holder presses the blank) in z = 0: move the die in z"
+        "the die's highest point is at z = {highest_mm:.4} mm; expected its top face (where the \
+         holder presses the blank) in z = 0 within {PLACEMENT_TOL_MM} mm: move the die in z"
     )]
-    DieAboveFace { highest_mm: f64 },
+    DieNotAtFace { highest_mm: f64 },
     #[error(
         "the die has no face in z = 0 (no triangle within 0.01 mm of z = 0 facing up): the \
          holder has nothing to press the blank on"
     )]
     NoFace,
     #[error(
-        "the punch starts inside the die: its point ({:.2}, {:.2}, {:.2}) mm is {depth_mm:.3} mm \
+        "the punch starts inside the die (or on its face, where it would pinch the blank): \
+         {START_MM} mm into the stroke its point ({:.2}, {:.2}, {:.2}) mm is {depth_mm:.3} mm \
          deep in the die's material", at[0], at[1], at[2]
     )]
     PunchInsideDie { at: [f64; 3], depth_mm: f64 },
@@ -121,7 +125,7 @@ impl MeshTool {
             }
             Role::Die => {
                 if bounds.1[2].abs() > PLACEMENT_TOL_MM {
-                    return Err(PlacementError::DieAboveFace {
+                    return Err(PlacementError::DieNotAtFace {
                         highest_mm: bounds.1[2],
                     });
                 }
@@ -180,11 +184,16 @@ impl MeshTool {
     }
 
     /// Refuses a punch that starts inside the die or runs into it within `stroke_mm`: each of
-    /// its vertices below the blank's plane at 0, ¼, ½, ¾ and the whole stroke is checked
-    /// against the die's exact distance (deeper than `PLACEMENT_TOL_MM` is a clash).
+    /// its vertices below the blank's plane `START_MM` into the stroke and at ¼, ½, ¾ and the
+    /// whole stroke is checked against the die's exact distance (deeper than
+    /// `PLACEMENT_TOL_MM` is a clash).
     pub fn check_pair(punch: &MeshTool, die: &MeshTool, stroke_mm: f64) -> Result<(), PlacementError> {
         for k in 0..=4 {
-            let s = stroke_mm * k as f64 / 4.0;
+            let s = if k == 0 {
+                START_MM.min(stroke_mm)
+            } else {
+                stroke_mm * k as f64 / 4.0
+            };
             let (dlo, dhi) = die.bounds;
             let mut worst: Option<([f64; 3], f64)> = None;
             for v in &punch.vertices {
