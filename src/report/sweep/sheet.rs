@@ -73,7 +73,17 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
             t.axes[0], t.axes[1], t.axes[2]
         ),
         ToolKind::Hemisphere => format!("hemisphere punch, radius {} mm", t.radius),
-        ToolKind::Mesh => format!("punch {}, die {} (STL)", t.file_name(&t.punch), t.file_name(&t.die)),
+        ToolKind::Mesh => format!(
+            "punch {}, die {} (STL)",
+            t.file_name(&t.punch),
+            t.file_name(&t.die)
+        ),
+    };
+    // A mesh die's clearance is in its STL.
+    let tools = if t.kind == ToolKind::Mesh {
+        tools
+    } else {
+        format!("{tools}, clearance {} mm", t.clearance)
     };
     let law = if base.fabric.undulation {
         "woven law"
@@ -100,9 +110,8 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
         .collect();
     vec![
         format!(
-            "Base scene: {} — {tools}, clearance {} mm, stroke {} mm, blank {} × {} mm, {law}, mesh {} mm{}; locking angle {}°, break tension {} N",
+            "Base scene: {} — {tools}, stroke {} mm, blank {} × {} mm, {law}, mesh {} mm{}; locking angle {}°, break tension {} N",
             plan.base_file.as_deref().unwrap_or(&plan.base_origin),
-            t.clearance,
             base.process.stroke,
             base.blank.size.0[0],
             base.blank.size.0[1],

@@ -64,11 +64,16 @@ impl Plan {
     /// The parameter columns: the short names that apply to the base's punch (all five for a
     /// box) or are swept, then the other swept keys.
     pub fn columns(&self) -> Vec<Column> {
-        let is_box = self.base_scene.tools.kind == ToolKind::Box;
+        let kind = self.base_scene.tools.kind;
         let mut cols = Vec::new();
         for (short, key) in SHORT_NAMES {
             let axis = self.axes.iter().position(|a| a.key == key);
-            let applies = is_box || !matches!(short, "r" | "rp");
+            let applies = match kind {
+                ToolKind::Box => true,
+                // A mesh tool's radii are in its STL.
+                ToolKind::Mesh => !matches!(short, "r" | "rp" | "rm"),
+                _ => !matches!(short, "r" | "rp"),
+            };
             if axis.is_some() || applies {
                 cols.push(Column {
                     name: short.to_string(),

@@ -266,6 +266,15 @@ fn axis_of(name: &str, value: &toml::Value, scene: &toml::Table) -> Result<Axis,
         .iter()
         .find(|(s, _)| *s == name)
         .map_or_else(|| name.to_string(), |(_, k)| k.to_string());
+    let mesh = matches!(lookup(scene, "tools.kind"), Some(toml::Value::String(k)) if k == "mesh");
+    if mesh && key.starts_with("tools.") && !["tools.lattice"].contains(&key.as_str()) {
+        return Err(format!(
+            "sweep.{name}: {key} is not a key of tools.kind = \"mesh\" (its shape is in its STL \
+             files); sweep what the files leave open: friction, holder_pressure, blank.size, \
+             process.stroke, fabric.yarn_angle_deg, fabric.locking_angle_deg, tools.lattice \
+             (or sweep scene files with other tools)"
+        ));
+    }
     let base_value = match lookup(scene, &key) {
         Some(toml::Value::Table(_)) | None => {
             return Err(format!(
