@@ -37,7 +37,11 @@ fn points_near_sphere(n: usize) -> Vec<[f64; 3]> {
             let (theta, z) = (std::f64::consts::TAU * u, 2.0 * v - 1.0);
             let r = (1.0 - z * z).sqrt();
             let radius = R + 4.0 * (w - 0.5);
-            [radius * r * theta.cos(), radius * r * theta.sin(), radius * z]
+            [
+                radius * r * theta.cos(),
+                radius * r * theta.sin(),
+                radius * z,
+            ]
         })
         .collect()
 }
@@ -92,7 +96,11 @@ fn the_sampled_distance_is_smooth_and_its_derivatives_are_its_own() {
                 let tol = 1e-4 * (1.0 + hess[a][b].abs());
                 if (fd - hess[b][a]).abs() > tol {
                     let g = [p[a] / 0.5 - h / 0.5, p[a] / 0.5 + h / 0.5];
-                    assert!(g[0].floor() != g[1].floor(), "{p:?} H{a}{b}: {fd} vs {}", hess[b][a]);
+                    assert!(
+                        g[0].floor() != g[1].floor(),
+                        "{p:?} H{a}{b}: {fd} vs {}",
+                        hess[b][a]
+                    );
                 }
             }
         }
@@ -133,7 +141,10 @@ fn the_gradient_is_continuous_across_the_lattice_cells() {
         }
     }
     assert!(crossings > 200, "{crossings}");
-    assert!(value_jump < 1e-8 && worst < 1e-6, "jumps: value {value_jump}, gradient {worst}");
+    assert!(
+        value_jump < 1e-8 && worst < 1e-6,
+        "jumps: value {value_jump}, gradient {worst}"
+    );
     // The curvature does jump (C1, not C2): the test sees cell faces.
     assert!(hessian_jump > 1e-4, "{hessian_jump}");
 }
@@ -171,7 +182,10 @@ fn the_flange_starts_where_the_analytic_dies_entry_radius_ends() {
             }
             let (got, _) = flange.distance(x, y);
             // The face's edge is found to a tessellation cell (1 mm) and a plan cell.
-            assert!((got - want).abs() < 1.0, "({x:.1}, {y:.1}): {got} vs {want}");
+            assert!(
+                (got - want).abs() < 1.0,
+                "({x:.1}, {y:.1}): {got} vs {want}"
+            );
         }
     }
     let half = mesh_die.flange.as_ref().unwrap().opening_half();

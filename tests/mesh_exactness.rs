@@ -33,7 +33,12 @@ fn meshed(p: &DrawingProblem, spacing: f64) -> DrawingProblem {
 
 /// Shear (°), force (relative) and draw-in (mm) differences from the analytic run.
 fn departures(a: &DrawingResult, b: &DrawingResult) -> [f64; 3] {
-    assert!(a.converged && b.converged, "{:?} {:?}", a.failure, b.failure);
+    assert!(
+        a.converged && b.converged,
+        "{:?} {:?}",
+        a.failure,
+        b.failure
+    );
     [
         b.max_shear().1 - a.max_shear().1,
         b.punch_force_n / a.punch_force_n - 1.0,
@@ -46,10 +51,20 @@ fn check(preset: &str) -> [f64; 3] {
     let analytic = drawing::solve(&p, &mut |_| {});
     let mesh = drawing::solve(&meshed(&p, 1.0), &mut |_| {});
     let [shear, force, draw_in] = departures(&analytic, &mesh);
-    eprintln!("{preset}: shear {shear:+.3}°, force {:+.2} %, draw-in {draw_in:+.3} mm", 100.0 * force);
+    eprintln!(
+        "{preset}: shear {shear:+.3}°, force {:+.2} %, draw-in {draw_in:+.3} mm",
+        100.0 * force
+    );
     assert!(shear.abs() <= 0.5, "{preset}: shear off by {shear}°");
-    assert!(force.abs() <= 0.02, "{preset}: force off by {} %", 100.0 * force);
-    assert!(draw_in.abs() <= 0.2, "{preset}: draw-in off by {draw_in} mm");
+    assert!(
+        force.abs() <= 0.02,
+        "{preset}: force off by {} %",
+        100.0 * force
+    );
+    assert!(
+        draw_in.abs() <= 0.2,
+        "{preset}: draw-in off by {draw_in} mm"
+    );
     [shear, force, draw_in]
 }
 

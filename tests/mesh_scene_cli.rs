@@ -12,7 +12,9 @@ fn bin() -> Command {
 }
 
 fn preset(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("presets").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("presets")
+        .join(name)
 }
 
 /// The analytic tools of `scene` (with `sets`) written as STL into `dir`, 2 mm triangles.
@@ -24,7 +26,11 @@ fn tools(scene: &str, sets: &[&str], dir: &Path) -> (TriSurface, TriSurface) {
         cmd.args(["--set", s]);
     }
     let out = cmd.output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     (
         read_surface(&dir.join("punch.stl")).unwrap(),
         read_surface(&dir.join("die.stl")).unwrap(),
@@ -61,7 +67,11 @@ fn a_scene_with_stl_tools_runs_and_writes_its_tools_back() {
     let (punch, _) = tools("hemisphere.toml", &[], dir.path());
     let s = scene(dir.path(), "punch.stl", "die.stl", 120.0);
     let out = run(&s, &["--json"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(j["converged"], true);
     // The whole blank is solved (the tools' symmetry is not known), and said so.
@@ -70,8 +80,18 @@ fn a_scene_with_stl_tools_runs_and_writes_its_tools_back() {
     assert!(shear > 5.0 && shear < 60.0, "{shear}");
     // tools on a mesh scene writes the surfaces back as read.
     let back = dir.path().join("back");
-    let out = bin().arg("tools").arg(&s).arg("--out").arg(&back).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = bin()
+        .arg("tools")
+        .arg(&s)
+        .arg("--out")
+        .arg(&back)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(read_surface(&back.join("punch.stl")).unwrap(), punch);
 }
 
@@ -138,7 +158,10 @@ fn misplaced_tools_are_refused_before_solving() {
     refused(&run(&s, &[]), &["blank.size", "not on the die's face"]);
     // A die key that mesh tools do not take.
     let s = scene(d, "punch.stl", "die.stl", 120.0);
-    refused(&run(&s, &["--set", "tools.rm=5"]), &["tools.rm", "not for tools.kind = \"mesh\""]);
+    refused(
+        &run(&s, &["--set", "tools.rm=5"]),
+        &["tools.rm", "not for tools.kind = \"mesh\""],
+    );
 }
 
 #[test]
@@ -150,9 +173,16 @@ fn a_punch_in_the_die_is_refused_naming_both() {
     let wide = d.join("wide");
     let narrow = d.join("narrow");
     tools("paper-box-open.toml", &["tools.rp=3"], &wide);
-    tools("paper-box-open.toml", &["tools.side=20", "tools.r=5", "tools.rp=5"], &narrow);
+    tools(
+        "paper-box-open.toml",
+        &["tools.side=20", "tools.r=5", "tools.rp=5"],
+        &narrow,
+    );
     let s = scene(d, "wide/punch.stl", "narrow/die.stl", 170.0);
-    refused(&run(&s, &[]), &["wide/punch.stl", "narrow/die.stl", "starts inside the die"]);
+    refused(
+        &run(&s, &[]),
+        &["wide/punch.stl", "narrow/die.stl", "starts inside the die"],
+    );
     // A 30 mm hemisphere into the die of a 20 mm one: it runs into the die on its way down.
     let big = d.join("big");
     let small = d.join("small");

@@ -17,6 +17,10 @@ pub struct BenchArgs {
     /// the symmetric Jacobian, lagged, lagged to a fixed point) on the open box.
     #[arg(long)]
     pub friction: bool,
+    /// Also time tools read from STL (~100 000 triangles each) against the same analytic
+    /// tools: the open and tight box and the hemisphere, whole blank.
+    #[arg(long)]
+    pub mesh: bool,
 }
 
 /// `wovenform bench`: law and element throughput, one thread.
@@ -48,6 +52,12 @@ pub fn exec(args: BenchArgs) -> Result<(), CliError> {
     } else {
         Vec::new()
     };
+    let mesh = if args.mesh {
+        note("STL tools against the analytic ones (open box, tight box, hemisphere)");
+        wovenform::study::mesh_bench::mesh_tools(box_reps.min(3))
+    } else {
+        Vec::new()
+    };
     let report = wovenform::report::bench::BenchReport {
         reps,
         box_reps,
@@ -57,6 +67,7 @@ pub fn exec(args: BenchArgs) -> Result<(), CliError> {
         exponent,
         sweep_per_min: [one, two],
         friction,
+        mesh,
     };
     if args.json {
         println!("{}", report.to_json());

@@ -48,7 +48,12 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
             let path = args.out.join(format!("{name}.stl"));
             let surface = tool.surface();
             write(&path, &surface, &args.scene)?;
-            println!("{}: {} triangles (as read from {})", path.display(), surface.triangles.len(), tool.name);
+            println!(
+                "{}: {} triangles (as read from {})",
+                path.display(),
+                surface.triangles.len(),
+                tool.name
+            );
         }
         return Ok(());
     }
@@ -87,7 +92,10 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
 
 fn make_folder(out: &Path) -> Result<(), CliError> {
     std::fs::create_dir_all(out).map_err(|e| {
-        CliError::bad_input(format!("{}: cannot create the output folder: {e}", out.display()))
+        CliError::bad_input(format!(
+            "{}: cannot create the output folder: {e}",
+            out.display()
+        ))
     })
 }
 

@@ -20,6 +20,8 @@ pub struct BenchReport {
     pub sweep_per_min: [f64; 2],
     /// How friction is resolved in a step (empty unless asked for).
     pub friction: Vec<(String, Result<BoxRun, String>)>,
+    /// STL tools against analytic ones (empty unless asked for).
+    pub mesh: Vec<Result<crate::study::mesh_bench::MeshRun, String>>,
 }
 
 fn run_json(name: &str, r: &BoxRun) -> serde_json::Value {
@@ -71,6 +73,17 @@ impl BenchReport {
                 Ok(r) => run_json(n, r),
                 Err(e) => serde_json::json!({"name": n, "failure": e}),
             }).collect::<Vec<_>>(),
+            "mesh_tools": self.mesh.iter().map(|r| match r {
+                Ok(r) => serde_json::json!({
+                    "name": r.name, "punch_triangles": r.triangles[0], "die_triangles": r.triangles[1],
+                    "analytic_wall_s": r.analytic_s, "stl_wall_s": r.mesh_s, "stl_read_s": r.read_s,
+                    "stl_over_analytic": r.mesh_s / r.analytic_s,
+                    "max_shear_departure_deg": r.departures[0],
+                    "punch_force_departure_pct": 100.0 * r.departures[1],
+                    "draw_in_departure_mm": r.departures[2],
+                }),
+                Err(e) => serde_json::json!({"failure": e}),
+            }).collect::<Vec<_>>(),
             "dof_ladder": self.ladder.iter().map(|(d, w)| serde_json::json!({"dofs": d, "wall_s": w})).collect::<Vec<_>>(),
             "wall_dof_exponent": self.exponent,
             "sweep_designs_per_min": {"jobs_1": one, "jobs_2": two},
@@ -109,6 +122,7 @@ impl BenchReport {
         }
         self.write_iteration(&mut out);
         self.write_friction(&mut out);
+        self.write_mesh(&mut out);
         out
     }
 
@@ -160,6 +174,53 @@ impl BenchReport {
             two,
             two / one
         );
+    }
+
+    /// STL tools against analytic ones, when measured.
+    fn write_mesh(&self, out: &mut String) {
+        if self.mesh.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            out,
+            "\ntools from STL against the same analytic tools, whole blank, standard (medians of {}):",
+            self.box_reps.min(3)
+        );
+        let _ = writeln!(
+            out,
+            "  {:<11} {:>17} {:>10} {:>9} {:>9} {:>7} {:>13} {:>9} {:>9} {:>9}",
+            "tools",
+            "triangles",
+            "analytic s",
+            "STL s",
+            "of it read",
+            "ratio",
+            "steps/Newton",
+            "shear °",
+            "force %",
+            "draw-in mm"
+        );
+        for run in &self.mesh {
+            let _ = match run {
+                Ok(r) => writeln!(
+                    out,
+                    "  {:<11} {:>8} + {:<7} {:>10.2} {:>9.2} {:>9.2} {:>7.2} {:>6}/{:<6} {:>+9.3} {:>+9.2} {:>+9.3}",
+                    r.name,
+                    r.triangles[0],
+                    r.triangles[1],
+                    r.analytic_s,
+                    r.mesh_s,
+                    r.read_s,
+                    r.mesh_s / r.analytic_s,
+                    format!("{}/{}", r.steps[0], r.newton_iterations[0]),
+                    format!("{}/{}", r.steps[1], r.newton_iterations[1]),
+                    r.departures[0],
+                    100.0 * r.departures[1],
+                    r.departures[2]
+                ),
+                Err(e) => writeln!(out, "  failed: {e}"),
+            };
+        }
     }
 
     /// The comparison of how friction is resolved in a step, when it was measured.

@@ -32,6 +32,12 @@ fn pair_cache() -> &'static Mutex<HashMap<(usize, usize, u64), Result<(), String
     CACHE.get_or_init(|| Mutex::new(HashMap::new()))
 }
 
+/// Forgets the tools read so far (the next scene reads its files again): for timing reads.
+pub fn forget_mesh_tools() {
+    cache().lock().unwrap().clear();
+    pair_cache().lock().unwrap().clear();
+}
+
 /// Where a tool path written in a scene from `origin` points.
 pub fn resolve(origin: &str, path: &str) -> PathBuf {
     let p = Path::new(path);
@@ -46,7 +52,8 @@ pub fn resolve(origin: &str, path: &str) -> PathBuf {
 
 /// Reads (or finds already read) the tool at `path` as a `role`.
 fn tool(path: &Path, role: Role, lattice: f64) -> Result<Arc<MeshTool>, String> {
-    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let meta =
+        std::fs::metadata(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
     let key = (
         canonical,
@@ -59,7 +66,7 @@ fn tool(path: &Path, role: Role, lattice: f64) -> Result<Arc<MeshTool>, String> 
         return Ok(t.clone());
     }
     let surface = crate::stl::read_surface(path).map_err(|e| e.to_string())?;
-    let name = path.display().to_string();
+    let name = key.0.display().to_string();
     let tool = MeshTool::new(role, &name, &surface, lattice, BAND_MM)
         .map_err(|e| format!("{name}: {e}"))?;
     let tool = Arc::new(tool);
@@ -86,11 +93,10 @@ impl Scene {
         let t = &self.tools;
         let read = |file: &str, role| tool(&resolve(origin, file), role, t.lattice);
         // The two files are read side by side.
-        let (punch, die) = rayon::join(
-            || read(&t.punch, Role::Punch),
-            || read(&t.die, Role::Die),
-        );
-        let named = |key: &str, file: &str, e: String| fail(key, &[key], format!("{key} = \"{file}\": {e}"));
+        let (punch, die) = rayon::join(|| read(&t.punch, Role::Punch), || read(&t.die, Role::Die));
+        let named = |key: &str, file: &str, e: String| {
+            fail(key, &[key], format!("{key} = \"{file}\": {e}"))
+        };
         let punch = punch.map_err(|e| named("tools.punch", &t.punch, e))?;
         let die = die.map_err(|e| named("tools.die", &t.die, e))?;
         let stroke = self.process.stroke;
@@ -107,13 +113,26 @@ impl Scene {
         });
         checked.map_err(|e| {
             let keys = ["tools.punch", "tools.die", "process.stroke"];
-            fail("tools.punch", &keys, format!("tools.punch = \"{}\" and tools.die = \"{}\": {e}", t.punch, t.die))
+            fail(
+                "tools.punch",
+                &keys,
+                format!(
+                    "tools.punch = \"{}\" and tools.die = \"{}\": {e}",
+                    t.punch, t.die
+                ),
+            )
         })?;
         self.check_blank_on_face(&die, origin_of)?;
         let [bx, by] = self.blank.size.0;
         let lo = [-0.5 * bx, -0.5 * by, -stroke - 1.0];
         let hi = [0.5 * bx, 0.5 * by, stroke + 1.0];
-        let smallest_radius_mm = punch.smallest_radius_mm(lo, hi).min(die.smallest_radius_mm(lo, hi));
+        let smallest_radius_mm = punch
+            .smallest_radius_mm(lo, hi)
+            .min(die.smallest_radius_mm(lo, hi));
+        // The files as absolute paths: a written scene (summary.json's inputs) runs back from
+        // anywhere.
+        self.tools.punch = punch.name.clone();
+        self.tools.die = die.name.clone();
         self.tools.loaded = Some(LoadedTools {
             punch,
             die,

@@ -60,6 +60,7 @@ use crate::core::drawing::{DrawingProblem, Symmetry};
 use crate::core::law::CellParams;
 
 pub use keys::{differences, lookup};
+pub use mesh_tools::forget_mesh_tools;
 pub use overrides::Override;
 pub use types::{
     Blank, DEFAULT_BOX_RADII, Fabric, MeshSettings, Num, Numerics, PerYarn, PlanPair, Process,

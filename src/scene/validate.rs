@@ -193,7 +193,11 @@ impl Scene {
         let t = &self.tools;
         for (key, path) in [("tools.punch", &t.punch), ("tools.die", &t.die)] {
             ok_if(!path.trim().is_empty(), || {
-                broken(key, "\"\"", "the path of an STL file (relative to the scene file)")
+                broken(
+                    key,
+                    "\"\"",
+                    "the path of an STL file (relative to the scene file)",
+                )
             })?;
         }
         ok_if((0.05..=5.0).contains(&t.lattice), || {

@@ -99,7 +99,11 @@ pub fn element_rate(repetitions: usize) -> Rate {
 }
 
 /// A preset as a problem on one thread, with overrides (`KEY=VALUE`).
-fn preset(text: &str, name: &str, overrides: &[&str]) -> crate::core::drawing::DrawingProblem {
+pub(crate) fn preset(
+    text: &str,
+    name: &str,
+    overrides: &[&str],
+) -> crate::core::drawing::DrawingProblem {
     let overrides: Vec<crate::scene::Override> = overrides
         .iter()
         .map(|o| o.parse().expect("a valid override"))

@@ -4,4 +4,5 @@
 pub mod bench;
 pub mod converge;
 pub mod fit;
+pub mod mesh_bench;
 pub mod sweep;

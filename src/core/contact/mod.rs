@@ -14,7 +14,7 @@ pub mod normal;
 pub use holder::Holder;
 
 use super::solver::{NodalSums, NodalTerms, NodeBlock};
-use super::tools::Tool;
+use super::tools::{Distance, Tool};
 
 /// One tool's role in the drawing.
 #[derive(Clone, Debug, PartialEq)]
@@ -101,6 +101,21 @@ pub struct Contact {
     /// Load factor and the force of the first tool (the punch) on the fabric (z component, N)
     /// at the end of every accepted step.
     pub punch_history: Vec<(f64, f64)>,
+    /// The last distance asked of each node and mesh tool (see [`Contact::distance`]).
+    memo: std::sync::Mutex<Vec<Memo>>,
+}
+
+/// A mesh tool's distance at a point, kept: the Newton loop asks for it at the same point
+/// several times (the assembly, friction's freeze, the trial's projection), and a mesh tool's
+/// answer costs an interpolation.
+#[derive(Clone, Copy, Debug, Default)]
+struct Memo {
+    /// The point in the tool's frame, and whether it is set.
+    at: Option<[f64; 3]>,
+    dist: Option<Distance>,
+    curvature: Option<[[f64; 3]; 3]>,
+    /// The holder's weight and its gradient there (a mesh die's flange interpolates too).
+    weight: Option<(f64, [f64; 2])>,
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -174,7 +189,42 @@ impl Contact {
             held: (0..n as u32).collect(),
             reach,
             punch_history: Vec::new(),
+            memo: std::sync::Mutex::new(vec![Memo::default(); n * nt]),
         }
+    }
+
+    /// The distance of node `i` to `tool` (tool `t` placed at the current load) at `p`, with
+    /// the curvature when `curvature`: for a mesh tool one interpolation answers both, and is
+    /// remembered for the node; an analytic tool is asked directly.
+    fn distance(
+        &self,
+        t: usize,
+        i: usize,
+        tool: &Tool,
+        p: [f64; 3],
+        curvature: bool,
+    ) -> (Distance, Option<[[f64; 3]; 3]>) {
+        let Tool::Mesh { shape, tip } = tool else {
+            let h = curvature.then(|| tool.curvature(p, self.reach));
+            return (tool.distance(p), h);
+        };
+        let local = [p[0], p[1], p[2] - tip];
+        let mut memo = self.memo.lock().unwrap_or_else(|e| e.into_inner());
+        let m = &mut memo[t * self.nodes() + i];
+        if m.at == Some(local) && (m.curvature.is_some() || !curvature) {
+            if let Some(d) = m.dist {
+                return (d, m.curvature.filter(|_| curvature));
+            }
+        }
+        let e = shape.distance.evaluate(local, curvature);
+        let dist = Distance { d: e.d, n: e.n };
+        *m = Memo {
+            at: Some(local),
+            dist: Some(dist),
+            curvature: e.hessian,
+            weight: None,
+        };
+        (dist, e.hessian)
     }
 
     fn nodes(&self) -> usize {
@@ -230,12 +280,31 @@ impl Contact {
         a
     }
 
+    /// The holder's weight of node `i` at `p` and its gradient, remembered with the node's
+    /// distance to a mesh die (where the flange's interpolation answers it).
+    fn holder_weight(&self, h: &Holder, t: usize, i: usize, p: [f64; 3]) -> (f64, [f64; 2]) {
+        if !matches!(self.tools[t].tool, Tool::Mesh { .. }) {
+            return h.weight(p[0], p[1]);
+        }
+        let mut memo = self.memo.lock().unwrap_or_else(|e| e.into_inner());
+        let m = &mut memo[t * self.nodes() + i];
+        if m.at == Some(p) {
+            if let Some(w) = m.weight {
+                return w;
+            }
+            let w = h.weight(p[0], p[1]);
+            m.weight = Some(w);
+            return w;
+        }
+        h.weight(p[0], p[1])
+    }
+
     /// The holder part of the friction normal force on the die (the holder face's friction),
     /// with its gradient.
     fn holder_normal(&self, t: usize, i: usize, p: [f64; 3]) -> (f64, [f64; 3]) {
         match &self.holder {
             Some(h) if !self.tools[t].tool.is_punch() => {
-                let (w, g) = h.weight(p[0], p[1]);
+                let (w, g) = self.holder_weight(h, t, i, p);
                 let pa = h.pressure * self.area[i];
                 (pa * w, [pa * g[0], pa * g[1], 0.0])
             }
@@ -246,7 +315,9 @@ impl Contact {
     /// Node `i`'s terms with tool `t` at `p`: penalty and friction.
     fn node_tool(&self, i: usize, t: usize, lambda: f64, p: [f64; 3], tangent: bool) -> Terms {
         let tool = self.tools[t].at(lambda);
-        let dist = tool.distance(p);
+        // A mesh tool gives its curvature with its distance: ask for both when the tangent is.
+        let mesh = matches!(tool, Tool::Mesh { .. });
+        let (dist, mut curvature) = self.distance(t, i, &tool, p, tangent && mesh);
         let pair = &self.pairs[t * self.nodes() + i];
         let (mu, eps) = (self.options.friction, self.options.slip_regularisation);
         let mut out = Terms::default();
@@ -267,7 +338,14 @@ impl Contact {
         if dist.d >= delta && !rubbing {
             return out;
         }
-        let h = tangent.then(|| tool.curvature(p, self.reach));
+        let h = if tangent {
+            Some(match curvature.take() {
+                Some(h) => h,
+                None => tool.curvature(p, self.reach),
+            })
+        } else {
+            None
+        };
         if let Some(pen) = normal::penalty(k, delta, dist.d, dist.n, h.as_ref()) {
             out.largest = pen.force;
             out.energy += pen.energy;
@@ -336,7 +414,7 @@ impl Contact {
 
     /// The friction normal force and unit normal of node `i` against tool `t` at `p`.
     fn friction_normal(&self, t: usize, i: usize, lambda: f64, p: [f64; 3]) -> (f64, [f64; 3]) {
-        let dist = self.tools[t].at(lambda).distance(p);
+        let dist = self.distance(t, i, &self.tools[t].at(lambda), p, false).0;
         let held = self.holder_normal(t, i, p).0;
         let pressed = normal::law(self.penalty[i], self.options.contact_smoothing, dist.d).0;
         (pressed + held, unit_normal(dist.n, None).0)
@@ -393,7 +471,7 @@ impl NodalTerms for Contact {
             for &i in &self.active[t] {
                 let i = i as usize;
                 let d_start = self.pairs[t * n + i].d_start;
-                let dist = tool.distance(x[i]);
+                let dist = self.distance(t, i, &tool, x[i], false).0;
                 // A node the tool pressed keeps its gap, and so about its pressure; one that was
                 // free is kept out of the tool's reach.
                 let goal = if d_start < delta {
@@ -416,7 +494,7 @@ impl NodalTerms for Contact {
             let tool = self.tools[t].at(lambda);
             for &i in &self.active[t] {
                 let i = i as usize;
-                let dist = tool.distance(x[i]);
+                let dist = self.distance(t, i, &tool, x[i], false).0;
                 if dist.d < 0.0 && tool.distance(x_base[i]).d >= delta {
                     for m in 0..3 {
                         x[i][m] -= dist.d * dist.n[m];

@@ -89,10 +89,7 @@ impl Tooling {
                 },
                 Tool::elliptic_die([radius, radius], clearance, rm),
             ),
-            Tooling::Mesh {
-                ref punch,
-                ref die,
-            } => (
+            Tooling::Mesh { ref punch, ref die } => (
                 Tool::Mesh {
                     shape: punch.clone(),
                     tip: 0.0,
@@ -117,10 +114,9 @@ impl Tooling {
             Tooling::Hemisphere {
                 radius, clearance, ..
             } => [radius + clearance; 2],
-            Tooling::Mesh { ref die, .. } => die
-                .flange
-                .as_ref()
-                .map_or([0.0; 2], |f| f.opening_half()),
+            Tooling::Mesh { ref die, .. } => {
+                die.flange.as_ref().map_or([0.0; 2], |f| f.opening_half())
+            }
         }
     }
 }

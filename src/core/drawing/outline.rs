@@ -46,7 +46,9 @@ impl Tooling {
                 // Where the face begins along rays from the centre (an opening star-shaped
                 // about it), by bisection of the flange's distance.
                 if let Some(f) = die.flange.as_ref() {
-                    let far = 2.0 * (die.bounds.1[0] - die.bounds.0[0]).max(die.bounds.1[1] - die.bounds.0[1]);
+                    let far = 2.0
+                        * (die.bounds.1[0] - die.bounds.0[0])
+                            .max(die.bounds.1[1] - die.bounds.0[1]);
                     for i in 0..16 * N {
                         let t = i as f64 / (16 * N) as f64 * std::f64::consts::TAU;
                         let (c, s) = (t.cos(), t.sin());

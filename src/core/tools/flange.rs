@@ -150,8 +150,14 @@ impl Flange {
             area += 0.5 * cross;
             // Cells whose centres the triangle covers.
             let cell = |x: f64, a: usize| ((x - origin[a]) / spacing - 0.5).floor();
-            let (x0, x1) = (cell(a[0].min(b[0]).min(c[0]), 0), cell(a[0].max(b[0]).max(c[0]), 0) + 1.0);
-            let (y0, y1) = (cell(a[1].min(b[1]).min(c[1]), 1), cell(a[1].max(b[1]).max(c[1]), 1) + 1.0);
+            let (x0, x1) = (
+                cell(a[0].min(b[0]).min(c[0]), 0),
+                cell(a[0].max(b[0]).max(c[0]), 0) + 1.0,
+            );
+            let (y0, y1) = (
+                cell(a[1].min(b[1]).min(c[1]), 1),
+                cell(a[1].max(b[1]).max(c[1]), 1) + 1.0,
+            );
             for j in y0.max(0.0) as usize..=(y1.max(0.0) as usize).min(dims[1] - 1) {
                 for i in x0.max(0.0) as usize..=(x1.max(0.0) as usize).min(dims[0] - 1) {
                     let p = [
@@ -251,7 +257,14 @@ mod tests {
 
     #[test]
     fn the_distance_transform_is_exact_on_a_line_and_a_plane() {
-        let f = [f64::INFINITY, 0.0, f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0];
+        let f = [
+            f64::INFINITY,
+            0.0,
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::INFINITY,
+            0.0,
+        ];
         let mut out = [0.0; 6];
         edt_line(&f, &mut out);
         assert_eq!(out, [1.0, 0.0, 1.0, 4.0, 1.0, 0.0]);

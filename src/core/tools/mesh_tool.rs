@@ -187,7 +187,11 @@ impl MeshTool {
     /// its vertices below the blank's plane `START_MM` into the stroke and at ¼, ½, ¾ and the
     /// whole stroke is checked against the die's exact distance (deeper than
     /// `PLACEMENT_TOL_MM` is a clash).
-    pub fn check_pair(punch: &MeshTool, die: &MeshTool, stroke_mm: f64) -> Result<(), PlacementError> {
+    pub fn check_pair(
+        punch: &MeshTool,
+        die: &MeshTool,
+        stroke_mm: f64,
+    ) -> Result<(), PlacementError> {
         for k in 0..=4 {
             let s = if k == 0 {
                 START_MM.min(stroke_mm)
@@ -195,17 +199,26 @@ impl MeshTool {
                 stroke_mm * k as f64 / 4.0
             };
             let (dlo, dhi) = die.bounds;
-            let mut worst: Option<([f64; 3], f64)> = None;
-            for v in &punch.vertices {
+            // The die's smooth distance: exact near its surface, a bound of the right sign
+            // farther (cheap where most vertices are, far from it).
+            let depth = |v: &[f64; 3]| {
                 let p = [v[0], v[1], v[2] - s];
-                if p[2] > PLACEMENT_TOL_MM || (0..3).any(|a| p[a] < dlo[a] - 1.0 || p[a] > dhi[a] + 1.0) {
-                    continue;
-                }
-                let d = die.distance.exact().query(p).d;
-                if d < -PLACEMENT_TOL_MM && worst.is_none_or(|(_, w)| d < w) {
-                    worst = Some((p, d));
-                }
-            }
+                let outside = p[2] > PLACEMENT_TOL_MM
+                    || (0..3).any(|a| p[a] < dlo[a] - 1.0 || p[a] > dhi[a] + 1.0);
+                let d = if outside {
+                    f64::INFINITY
+                } else {
+                    die.distance.evaluate(p, false).d
+                };
+                (p, d)
+            };
+            use rayon::prelude::*;
+            let worst = punch
+                .vertices
+                .par_iter()
+                .map(depth)
+                .filter(|(_, d)| *d < -PLACEMENT_TOL_MM)
+                .min_by(|a, b| a.1.total_cmp(&b.1));
             if let Some((at, d)) = worst {
                 return Err(if k == 0 {
                     PlacementError::PunchInsideDie { at, depth_mm: -d }

@@ -218,8 +218,7 @@ impl ExactDistance {
         for f in self.bvh.traverse_iterator(&query, &self.facets) {
             let n = self.face_normal[f.index];
             let (n0, c) = *plane.get_or_insert((n, dot(n, f.corners[0])));
-            if dot(n, n0) < 1.0 - 1e-8 || f.corners.iter().any(|v| (dot(n0, *v) - c).abs() > 1e-5)
-            {
+            if dot(n, n0) < 1.0 - 1e-8 || f.corners.iter().any(|v| (dot(n0, *v) - c).abs() > 1e-5) {
                 return None;
             }
         }

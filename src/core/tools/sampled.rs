@@ -94,7 +94,8 @@ impl SampledDistance {
         let (lo, hi) = surface.bounds();
         let margin = margin.max(band + 3.0 * spacing);
         let origin = lo.map(|v| v - margin);
-        let nodes = [0, 1, 2].map(|i| ((hi[i] - lo[i] + 2.0 * margin) / spacing).ceil() as usize + 1);
+        let nodes =
+            [0, 1, 2].map(|i| ((hi[i] - lo[i] + 2.0 * margin) / spacing).ceil() as usize + 1);
         let pages_per_axis = nodes.map(|n| n.div_ceil(P));
         let count = pages_per_axis.iter().product();
         let pages = (0..count)
@@ -184,7 +185,11 @@ impl SampledDistance {
         let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         Evaluation {
             d: l,
-            n: if l > 0.0 { v.map(|c| c / l) } else { [0.0, 0.0, 1.0] },
+            n: if l > 0.0 {
+                v.map(|c| c / l)
+            } else {
+                [0.0, 0.0, 1.0]
+            },
             hessian: None,
         }
     }
@@ -201,7 +206,8 @@ impl SampledDistance {
         let cell = base.map(|v| v as usize);
         // Far from the surface: the page centre's distance bounds the point's.
         let page = cell.map(|v| v / P);
-        let centre = [0, 1, 2].map(|a| self.origin[a] + ((page[a] * P) as f64 + 0.5 * P as f64) * h);
+        let centre =
+            [0, 1, 2].map(|a| self.origin[a] + ((page[a] * P) as f64 + 0.5 * P as f64) * h);
         let info = *self.pages[self.page_index(page)]
             .centre
             .get_or_init(|| self.page_info(centre));
