@@ -26,9 +26,11 @@ fn cache() -> &'static Mutex<HashMap<Key, Arc<MeshTool>>> {
     CACHE.get_or_init(|| Mutex::new(HashMap::new()))
 }
 
-fn pair_cache() -> &'static Mutex<HashMap<(usize, usize, u64), Result<(), String>>> {
-    static CACHE: std::sync::OnceLock<Mutex<HashMap<(usize, usize, u64), Result<(), String>>>> =
-        std::sync::OnceLock::new();
+/// Punch, die and stroke of a checked pair, and the outcome.
+type Pairs = Mutex<HashMap<(usize, usize, u64), Result<(), String>>>;
+
+fn pair_cache() -> &'static Pairs {
+    static CACHE: std::sync::OnceLock<Pairs> = std::sync::OnceLock::new();
     CACHE.get_or_init(|| Mutex::new(HashMap::new()))
 }
 

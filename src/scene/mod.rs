@@ -21,7 +21,7 @@
 //! b = 0.25              # 1/N
 //!
 //! [tools]
-//! kind = "box"          # "box" | "ellipsoid" | "hemisphere"
+//! kind = "box"          # "box" | "ellipsoid" | "hemisphere" | "mesh" (punch, die: STL files)
 //! side = 60             # mm (box), or [x, y]
 //! r = 10                # punch corner radius, mm (box)
 //! rp = 15               # punch nose radius, mm (box)

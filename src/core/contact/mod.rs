@@ -211,10 +211,10 @@ impl Contact {
         let local = [p[0], p[1], p[2] - tip];
         let mut memo = self.memo.lock().unwrap_or_else(|e| e.into_inner());
         let m = &mut memo[t * self.nodes() + i];
-        if m.at == Some(local) && (m.curvature.is_some() || !curvature) {
-            if let Some(d) = m.dist {
-                return (d, m.curvature.filter(|_| curvature));
-            }
+        if let Some(d) = m.dist.filter(|_| m.at == Some(local))
+            && (m.curvature.is_some() || !curvature)
+        {
+            return (d, m.curvature.filter(|_| curvature));
         }
         let e = shape.distance.evaluate(local, curvature);
         let dist = Distance { d: e.d, n: e.n };

@@ -99,22 +99,10 @@ fn edt(dims: [usize; 2], zero: &dyn Fn(usize) -> bool) -> Vec<f64> {
     g
 }
 
+/// Catmull-Rom weights at `t` and their derivatives.
 fn catmull_rom(t: f64) -> ([f64; 4], [f64; 4]) {
-    let (t2, t3) = (t * t, t * t * t);
-    (
-        [
-            0.5 * (-t3 + 2.0 * t2 - t),
-            0.5 * (3.0 * t3 - 5.0 * t2 + 2.0),
-            0.5 * (-3.0 * t3 + 4.0 * t2 + t),
-            0.5 * (t3 - t2),
-        ],
-        [
-            0.5 * (-3.0 * t2 + 4.0 * t - 1.0),
-            0.5 * (9.0 * t2 - 10.0 * t),
-            0.5 * (-9.0 * t2 + 8.0 * t + 1.0),
-            0.5 * (3.0 * t2 - 2.0 * t),
-        ],
-    )
+    let [w, dw, _] = super::sampled::weights(t);
+    (w, dw)
 }
 
 impl Flange {
@@ -272,7 +260,7 @@ mod tests {
         let g = edt(dims, &|i| i == 2 * 7 + 3);
         for j in 0..5 {
             for i in 0..7 {
-                let want = ((i as f64 - 3.0).powi(2) + (j as f64 - 2.0).powi(2)) as f64;
+                let want = (i as f64 - 3.0).powi(2) + (j as f64 - 2.0).powi(2);
                 assert_eq!(g[j * 7 + i], want, "{i} {j}");
             }
         }

@@ -68,7 +68,7 @@ pub struct Evaluation {
 
 /// Catmull-Rom weights at `t ∈ [0, 1)` for the nodes −1, 0, 1, 2, and their first and second
 /// derivatives in `t`.
-fn weights(t: f64) -> [[f64; 4]; 3] {
+pub(super) fn weights(t: f64) -> [[f64; 4]; 3] {
     let (t2, t3) = (t * t, t * t * t);
     [
         [
