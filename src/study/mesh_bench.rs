@@ -6,6 +6,7 @@
 
 use std::time::Instant;
 
+use super::bench::median;
 use crate::core::drawing::{DrawingProblem, DrawingResult, Symmetry};
 use crate::core::tools::capped::tool_surfaces;
 use crate::presets::{PAPER_BOX_OPEN, PAPER_BOX_TIGHT};
@@ -31,11 +32,6 @@ pub struct MeshRun {
     /// Steps and Newton iterations, analytic then mesh.
     pub steps: [u32; 2],
     pub newton_iterations: [u32; 2],
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// The spacing that gives a tool about [`TRIANGLES_PER_TOOL`], from its count at 2 mm.
