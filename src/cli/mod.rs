@@ -16,6 +16,7 @@ mod merge;
 mod progress;
 mod run;
 mod scene_args;
+mod slurm;
 mod sweep;
 mod tools;
 mod tui;
@@ -64,6 +65,8 @@ pub enum Command {
     /// Write the scene's punch and die as closed triangle surfaces: punch.stl and die.stl
     /// (binary STL, mm) in --out, tessellated on a grid of --spacing mm.
     Tools(tools::ToolsArgs),
+    /// A sweep as a Slurm job array (a resumable shard per task) and a merge job after it.
+    Slurm(slurm::SlurmArgs),
     /// The terminal explorer on a sweep file (without one: the paper's square box). Also what
     /// `wovenform` alone opens in a terminal.
     Tui(tui::TuiArgs),
@@ -83,5 +86,6 @@ pub fn exec(cli: Cli) -> Result<(), CliError> {
         Some(Command::Bias(args)) => bias::exec(args),
         Some(Command::Bench(args)) => bench::exec(args),
         Some(Command::Tools(args)) => tools::exec(args),
+        Some(Command::Slurm(args)) => slurm::exec(args),
     }
 }

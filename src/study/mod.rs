@@ -5,4 +5,5 @@ pub mod bench;
 pub mod converge;
 pub mod fit;
 pub mod mesh_bench;
+pub mod slurm;
 pub mod sweep;

@@ -1,0 +1,196 @@
+//! `wovenform slurm SWEEP.toml --out DIR --tasks N`: the sweep as a Slurm job array (one
+//! shard per task, each resumable) and a merge job that waits for it; `--submit` submits both.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use clap::Args;
+
+use super::CliError;
+use super::scene_args::{parse_accuracy, with_accuracy};
+use wovenform::accuracy::Accuracy;
+use wovenform::study::slurm::{ArrayJob, is_slurm_time, tasks_for};
+use wovenform::study::sweep::Plan;
+
+#[derive(Args, Debug)]
+pub struct SlurmArgs {
+    /// Sweep file (TOML).
+    #[arg(value_name = "SWEEP.toml")]
+    pub sweep: PathBuf,
+    /// Override one key of the base scene (passed on to every task). Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output folder: the shards go to DIR/shards/I, the merged sweep to DIR, the scripts and
+    /// logs to DIR/slurm.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Array tasks at most (fewer when the designs are too quick to fill them).
+    #[arg(long, value_name = "N")]
+    pub tasks: usize,
+    /// CPUs per task (each task runs that many designs at once).
+    #[arg(long, value_name = "C", default_value_t = 1)]
+    pub cpus_per_task: usize,
+    /// Slurm partition.
+    #[arg(long, value_name = "P")]
+    pub partition: Option<String>,
+    /// Wall-time limit per task, HH:MM:SS (or D-HH:MM:SS).
+    #[arg(long, value_name = "HH:MM:SS")]
+    pub time: Option<String>,
+    /// Accuracy level of every design: coarse, standard or fine.
+    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
+    pub accuracy: Option<Accuracy>,
+    /// Estimated work per task at least, s: designs too quick to fill --tasks tasks share
+    /// fewer (an allocation costs its queueing and start).
+    #[arg(long, value_name = "SECONDS", default_value_t = wovenform::study::slurm::MIN_TASK_WORK_S)]
+    pub min_task_s: f64,
+    /// Submit the array and the merge with sbatch, and print their job ids.
+    #[arg(long)]
+    pub submit: bool,
+}
+
+fn absolute(p: &Path) -> Result<PathBuf, CliError> {
+    std::path::absolute(p)
+        .map_err(|e| CliError::bad_input(format!("{}: cannot resolve the path: {e}", p.display())))
+}
+
+fn write(path: &Path, text: &str) -> Result<(), CliError> {
+    std::fs::write(path, text)
+        .map_err(|e| CliError::bad_input(format!("{}: cannot write: {e}", path.display())))?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755));
+    }
+    Ok(())
+}
+
+/// Checks the options that Slurm would only refuse at submission.
+fn check(args: &SlurmArgs) -> Result<(), CliError> {
+    if !(args.min_task_s >= 0.0 && args.min_task_s.is_finite()) {
+        return Err(CliError::bad_input(format!(
+            "--min-task-s {}: expected a number of seconds ≥ 0",
+            args.min_task_s
+        )));
+    }
+    if args.tasks == 0 || args.cpus_per_task == 0 {
+        return Err(CliError::bad_input(
+            "--tasks and --cpus-per-task: expected at least 1",
+        ));
+    }
+    if let Some(t) = args.time.as_deref().filter(|t| !is_slurm_time(t)) {
+        return Err(CliError::bad_input(format!(
+            "--time {t}: expected a Slurm time limit such as 01:30:00 or 2-00:00:00"
+        )));
+    }
+    if let Some(p) = args.partition.as_deref().filter(|p| {
+        p.is_empty()
+            || !p
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "_-.,".contains(c))
+    }) {
+        return Err(CliError::bad_input(format!(
+            "--partition {p:?}: expected a partition name (letters, digits, _ - . ,)"
+        )));
+    }
+    Ok(())
+}
+
+/// Runs `sbatch --parsable ARGS` and returns the job id it prints.
+fn sbatch(args: &[String]) -> Result<String, CliError> {
+    let out = Command::new("sbatch")
+        .arg("--parsable")
+        .args(args)
+        .output()
+        .map_err(|e| {
+            CliError::failed(format!(
+                "sbatch: cannot run it ({e}); is this a Slurm login node?"
+            ))
+        })?;
+    if !out.status.success() {
+        return Err(CliError::failed(format!(
+            "sbatch {}: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr).trim()
+        )));
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    let id = text.trim().split(';').next().unwrap_or("").to_string();
+    if id.is_empty() || !id.bytes().all(|b| b.is_ascii_digit()) {
+        return Err(CliError::failed(format!(
+            "sbatch printed no job id: {text:?}"
+        )));
+    }
+    Ok(id)
+}
+
+pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
+    check(&args)?;
+    let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
+    let per_design_s = wovenform::accuracy::run_seconds_estimate(&plan.base_scene);
+    let tasks = tasks_for(
+        plan.len(),
+        per_design_s,
+        args.cpus_per_task,
+        args.tasks,
+        args.min_task_s,
+    );
+    if tasks < args.tasks {
+        eprintln!(
+            "--tasks {}: {} designs of about {per_design_s:.1} s each on {} cpus a task make {tasks} \
+             task(s) of at least {} s of work (--min-task-s)",
+            args.tasks,
+            plan.len(),
+            args.cpus_per_task,
+            args.min_task_s
+        );
+    }
+    let out = absolute(&args.out)?;
+    let dir = out.join("slurm");
+    std::fs::create_dir_all(dir.join("logs")).map_err(|e| {
+        CliError::bad_input(format!("{}: cannot create the folder: {e}", dir.display()))
+    })?;
+    let name = args
+        .sweep
+        .file_stem()
+        .map_or("sweep".into(), |s| s.to_string_lossy().to_string());
+    let job = ArrayJob {
+        name,
+        binary: std::env::current_exe()
+            .map_err(|e| CliError::failed(format!("cannot find this program's path: {e}")))?,
+        sweep: absolute(&args.sweep)?,
+        out: out.clone(),
+        sets: args.set.clone(),
+        accuracy: args.accuracy.map(|a| a.name().to_string()),
+        tasks,
+        cpus_per_task: args.cpus_per_task,
+        partition: args.partition.clone(),
+        time: args.time.clone(),
+    };
+    let (array, merge, submit) = (
+        dir.join("array.sh"),
+        dir.join("merge.sh"),
+        dir.join("submit.sh"),
+    );
+    write(&array, &job.array_script())?;
+    write(&merge, &job.merge_script())?;
+    write(&submit, &job.submit_script())?;
+    println!(
+        "{}: {} designs in {tasks} array task(s) of {} cpus\n{}: the merge into {}, after the array (afterok)",
+        array.display(),
+        plan.len(),
+        args.cpus_per_task,
+        merge.display(),
+        out.display()
+    );
+    if !args.submit {
+        println!("submit both with: bash {}", submit.display());
+        return Ok(());
+    }
+    let array_id = sbatch(&[array.display().to_string()])?;
+    let merge_id = sbatch(&[
+        format!("--dependency=afterok:{array_id}"),
+        merge.display().to_string(),
+    ])?;
+    println!("array job {array_id}, merge job {merge_id}");
+    Ok(())
+}

@@ -1,0 +1,166 @@
+//! `wovenform slurm`: the job array and the merge job it writes, run here task by task as
+//! Slurm would run them (one task killed mid-run and run again, as a requeue does), give the
+//! rows of a local sweep of the same file, each design once; `--submit` passes the array's
+//! job id to the merge's dependency. (No Slurm cluster runs here: issue 17's end-to-end test
+//! on a real single-node Slurm is not done.)
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::Command;
+
+fn bin() -> &'static str {
+    env!("CARGO_BIN_EXE_wovenform")
+}
+
+fn sweep_file() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/paper-box-explorer.toml")
+}
+
+/// Design → its row's max shear and verdict, from a results.csv.
+fn rows(dir: &Path) -> (usize, BTreeMap<String, (String, String)>) {
+    let mut r = csv::Reader::from_path(dir.join("results.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let (d, s, v) = (col("design"), col("max_shear_deg"), col("verdict"));
+    let mut n = 0;
+    let mut map = BTreeMap::new();
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        n += 1;
+        map.insert(rec[d].to_string(), (rec[s].to_string(), rec[v].to_string()));
+    }
+    (n, map)
+}
+
+#[test]
+fn the_array_and_merge_give_the_local_sweep_each_design_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cluster");
+    let st = Command::new(bin())
+        .arg("slurm")
+        .arg(sweep_file())
+        .args([
+            "--out",
+            out.to_str().unwrap(),
+            "--tasks",
+            "3",
+            "--min-task-s",
+            "0",
+        ])
+        .args(["--accuracy", "coarse", "--time", "00:10:00"])
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let scripts = out.join("slurm");
+    let array = std::fs::read_to_string(scripts.join("array.sh")).unwrap();
+    assert!(array.contains("#SBATCH --array=1-3"), "{array}");
+    let task = |i: usize| {
+        let mut c = Command::new("bash");
+        c.arg(scripts.join("array.sh"))
+            .env("SLURM_ARRAY_TASK_ID", i.to_string())
+            .env("SLURM_CPUS_PER_TASK", "1");
+        c
+    };
+    // Task 2 is killed early (preempted), then runs again (requeued).
+    let mut child = task(2).spawn().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    child.kill().unwrap();
+    let _ = child.wait();
+    for i in [1, 2, 3] {
+        let o = task(i).output().unwrap();
+        assert!(
+            o.status.success(),
+            "task {i}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    let o = Command::new("bash")
+        .arg(scripts.join("merge.sh"))
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "merge: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let local = tmp.path().join("local");
+    let o = Command::new(bin())
+        .arg("sweep")
+        .arg(sweep_file())
+        .args(["--out", local.to_str().unwrap(), "--accuracy", "coarse"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (n_cluster, cluster) = rows(&out);
+    let (n_local, local) = rows(&local);
+    assert_eq!(n_local, 8);
+    assert_eq!(n_cluster, 8, "each design once");
+    assert_eq!(cluster, local);
+}
+
+#[test]
+fn submit_passes_the_array_id_to_the_merge() {
+    let tmp = tempfile::tempdir().unwrap();
+    let fake = tmp.path().join("bin");
+    std::fs::create_dir_all(&fake).unwrap();
+    let log = tmp.path().join("sbatch.log");
+    // A stand-in sbatch: records its arguments, answers job ids as --parsable does.
+    let script = format!(
+        "#!/bin/bash\necho \"$@\" >> '{}'\nn=$(wc -l < '{}')\necho \"$((4000 + n));cluster\"\n",
+        log.display(),
+        log.display()
+    );
+    let sbatch = fake.join("sbatch");
+    std::fs::write(&sbatch, script).unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&sbatch, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let path = format!(
+        "{}:{}",
+        fake.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let out = tmp.path().join("cluster");
+    let o = Command::new(bin())
+        .arg("slurm")
+        .arg(sweep_file())
+        .args(["--out", out.to_str().unwrap(), "--tasks", "2", "--submit"])
+        .args(["--partition", "short"])
+        .env("PATH", path)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("array job 4001, merge job 4002"),
+        "{stdout}"
+    );
+    let calls = std::fs::read_to_string(&log).unwrap();
+    let lines: Vec<&str> = calls.lines().collect();
+    assert_eq!(lines.len(), 2, "{calls}");
+    assert!(lines[0].contains("array.sh"), "{calls}");
+    assert!(
+        lines[1].contains("--dependency=afterok:4001") && lines[1].contains("merge.sh"),
+        "{calls}"
+    );
+    // Bad options are refused before anything is written.
+    for bad in [["--time", "90 minutes"], ["--partition", "a b"]] {
+        let o = Command::new(bin())
+            .arg("slurm")
+            .arg(sweep_file())
+            .args([
+                "--out",
+                tmp.path().join("x").to_str().unwrap(),
+                "--tasks",
+                "2",
+            ])
+            .args(bad)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{bad:?}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains(bad[0]));
+    }
+}
