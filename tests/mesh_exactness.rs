@@ -39,11 +39,7 @@ fn departures(a: &DrawingResult, b: &DrawingResult) -> [f64; 3] {
         a.failure,
         b.failure
     );
-    [
-        b.max_shear().1 - a.max_shear().1,
-        b.punch_force_n / a.punch_force_n - 1.0,
-        b.draw_in_mm - a.draw_in_mm,
-    ]
+    wovenform::study::mesh_bench::departures(a, b)
 }
 
 fn check(preset: &str) -> [f64; 3] {

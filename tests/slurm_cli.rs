@@ -4,7 +4,9 @@
 //! job id to the merge's dependency. (No Slurm cluster runs here: issue 17's end-to-end test
 //! on a real single-node Slurm is not done.)
 
-use std::collections::BTreeMap;
+mod slurm_common;
+use slurm_common::rows;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -14,22 +16,6 @@ fn bin() -> &'static str {
 
 fn sweep_file() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/paper-box-explorer.toml")
-}
-
-/// Design → its row's max shear and verdict, from a results.csv.
-fn rows(dir: &Path) -> (usize, BTreeMap<String, (String, String)>) {
-    let mut r = csv::Reader::from_path(dir.join("results.csv")).unwrap();
-    let h = r.headers().unwrap().clone();
-    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
-    let (d, s, v) = (col("design"), col("max_shear_deg"), col("verdict"));
-    let mut n = 0;
-    let mut map = BTreeMap::new();
-    for rec in r.records() {
-        let rec = rec.unwrap();
-        n += 1;
-        map.insert(rec[d].to_string(), (rec[s].to_string(), rec[v].to_string()));
-    }
-    (n, map)
 }
 
 #[test]

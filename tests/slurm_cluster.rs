@@ -8,7 +8,9 @@
 //! Ignored by `cargo test` (it needs slurm-wlm and root); `.ci/run` installs them and runs it
 //! with `cargo test --release --test slurm_cluster -- --ignored`.
 
-use std::collections::BTreeMap;
+mod slurm_common;
+use slurm_common::rows;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
@@ -143,21 +145,6 @@ fn state(id: &str, conf: &Path) -> String {
         .find_map(|w| w.strip_prefix("JobState="))
         .unwrap_or("")
         .to_string()
-}
-
-fn rows(dir: &Path) -> (usize, BTreeMap<String, (String, String)>) {
-    let mut r = csv::Reader::from_path(dir.join("results.csv")).unwrap();
-    let h = r.headers().unwrap().clone();
-    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
-    let (d, s, v) = (col("design"), col("max_shear_deg"), col("verdict"));
-    let mut n = 0;
-    let mut map = BTreeMap::new();
-    for rec in r.records() {
-        let rec = rec.unwrap();
-        n += 1;
-        map.insert(rec[d].to_string(), (rec[s].to_string(), rec[v].to_string()));
-    }
-    (n, map)
 }
 
 #[test]

@@ -57,7 +57,9 @@ fn mesh_scene(text: &str, dir: &std::path::Path) -> Result<std::path::PathBuf, S
     Ok(path)
 }
 
-fn departures(a: &DrawingResult, b: &DrawingResult) -> [f64; 3] {
+/// The mesh run `b` against the analytic run `a`: max shear (°), punch force (relative) and
+/// draw-in (mm).
+pub fn departures(a: &DrawingResult, b: &DrawingResult) -> [f64; 3] {
     [
         b.max_shear().1 - a.max_shear().1,
         b.punch_force_n / a.punch_force_n - 1.0,
