@@ -14,7 +14,8 @@
 //!
 //! 1. [`core`]: pure numerics (the woven-cell law, the membrane element, the Newton solver, the
 //!    tools and their contact, the drawing problem). No files, no terminal, no serde, no clock.
-//! 2. [`machine`]: what this machine can hold (its memory), asked before a mesh is allocated.
+//! 2. [`files`]: writing files whole and never over a command's inputs.
+//!    [`machine`]: what this machine can hold (its memory), asked before a mesh is allocated.
 //!    [`stl`]: tool surfaces ([`core::tools::surface::TriSurface`]) read from and written to
 //!    STL files, with the refusals of a file that cannot be a tool.
 //! 3. [`scene`]: the TOML scene a user writes, checked against physical bounds (and against
@@ -32,6 +33,7 @@
 //! 9. [`tui`]: the terminal explorer. The command line (`src/cli/`) lives in the binary.
 pub mod accuracy;
 pub mod core;
+pub mod files;
 pub mod machine;
 pub mod presets;
 pub mod publish;

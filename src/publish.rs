@@ -19,7 +19,8 @@ use crate::report::sweep::{design_label, field_map, results_json, shared_scale_m
 use crate::report::vtu::vtu_string;
 use crate::study::converge::Ladder;
 use crate::study::fit::{FitResult, Sample};
-use crate::study::sweep::{Plan, Row, Shard, StoreError, StoredField, write_atomic};
+use crate::files::write_atomic;
+use crate::study::sweep::{Plan, Row, Shard, StoreError, StoredField};
 use crate::summary::RunSummary;
 
 /// Why a file could not be written.
@@ -64,7 +65,7 @@ pub fn sweep_report(
     let report = dir.join("report.png");
     sheet(plan, rows, &designs, top, &read)?.write_png(&report)?;
     let json = dir.join("results.json");
-    write_atomic(&json, &results_json(plan, rows, shard, top))?;
+    crate::study::sweep::write_atomic(&json, &results_json(plan, rows, shard, top))?;
     Ok(vec![
         dir.join("results.csv"),
         json,
@@ -129,7 +130,8 @@ pub fn write_run(
     let tension_flat = dir.join("tension_developed.png");
     maps::tension_developed(result, &ctx, summary.break_tension_n).write_png(&tension_flat)?;
     let vtu_path = dir.join("result.vtu");
-    std::fs::write(&vtu_path, vtu_string(result)).map_err(io(&vtu_path, "write the VTU file"))?;
+    write_atomic(&vtu_path, vtu_string(result).as_bytes())
+        .map_err(io(&vtu_path, "write the VTU file"))?;
     let json = dir.join("summary.json");
     let written = vec![
         json.clone(),
@@ -153,7 +155,7 @@ pub fn write_run(
             .insert(kind.to_string(), path.display().to_string());
     }
     let text = serde_json::to_string_pretty(&*summary).expect("the summary is plain data");
-    std::fs::write(&json, text + "\n").map_err(io(&json, "write the summary"))?;
+    write_atomic(&json, (text + "\n").as_bytes()).map_err(io(&json, "write the summary"))?;
     Ok(written)
 }
 
@@ -162,7 +164,7 @@ pub fn write_figure6(params: CellParams, dir: &Path) -> Result<Vec<PathBuf>, Pub
     std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
     let rows = figure6_table(params, 121);
     let csv = dir.join("figure6.csv");
-    std::fs::write(&csv, figure6_csv(&rows)).map_err(io(&csv, "write"))?;
+    write_atomic(&csv, figure6_csv(&rows).as_bytes()).map_err(io(&csv, "write"))?;
     let png = dir.join("figure6.png");
     figure6_chart(&rows).write_png(&png)?;
     Ok(vec![csv, png])
@@ -175,7 +177,7 @@ pub fn write_converge(
     steps: &Ladder,
 ) -> Result<[PathBuf; 2], PublishError> {
     let csv = dir.join("converge.csv");
-    std::fs::write(&csv, converge::csv(mesh, steps)).map_err(io(&csv, "write"))?;
+    write_atomic(&csv, converge::csv(mesh, steps).as_bytes()).map_err(io(&csv, "write"))?;
     let png = dir.join("converge.png");
     converge::chart(mesh, steps).write_png(&png)?;
     Ok([csv, png])
@@ -226,7 +228,7 @@ pub fn write_bias(
     let text = w
         .into_inner()
         .map_err(|e| io(&csv_path, "write")(std::io::Error::other(e.to_string())))?;
-    write_atomic(&csv_path, &String::from_utf8_lossy(&text))?;
+    crate::study::sweep::write_atomic(&csv_path, &String::from_utf8_lossy(&text))?;
     let png = dir.join("bias.png");
     bias::force_chart(problem, result, measured).write_png(&png)?;
     let map = dir.join("shear.png");

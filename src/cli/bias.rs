@@ -6,12 +6,12 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use serde::Serialize;
 
-use super::CliError;
+use super::{CliError, outputs};
 use super::progress::stderr_bar;
 use super::scene_args::SceneArgs;
 use wovenform::core::bias::{BiasProblem, BiasResult, kinematic_limit};
 use wovenform::report::bias::{Departure, departure};
-use wovenform::scene::Scene;
+use wovenform::scene::specimen;
 
 #[derive(Args, Debug)]
 pub struct BiasArgs {
@@ -68,56 +68,6 @@ struct BiasOutput<'a> {
     files: Vec<String>,
 }
 
-/// The test of `scene`'s fabric on an `h × w` specimen pulled by `d`, its bounds checked.
-pub fn problem(
-    scene: &Scene,
-    [h, w, d]: [f64; 3],
-    element_size: f64,
-    points: usize,
-) -> Result<BiasProblem, CliError> {
-    let positive = |name: &str, v: f64| {
-        if v.is_finite() && v > 0.0 && v <= 1e4 {
-            Ok(v)
-        } else {
-            Err(CliError::bad_input(format!(
-                "--{name} = {v}: expected a length in mm, > 0 and at most 10 m"
-            )))
-        }
-    };
-    let (h, w, d) = (
-        positive("length", h)?,
-        positive("width", w)?,
-        positive("stroke", d)?,
-    );
-    let element_size = positive("element-size", element_size)?;
-    if !(2..=1000).contains(&points) {
-        return Err(CliError::bad_input(format!(
-            "--points = {points}: expected 2 to 1000"
-        )));
-    }
-    let p = scene.to_problem();
-    let cells = (h / element_size) * (w / element_size);
-    if cells > 2e5 {
-        return Err(CliError::bad_input(format!(
-            "a {h} × {w} mm specimen in {element_size} mm elements is {cells:.0} elements: expected at most 200000 (a larger --element-size)"
-        )));
-    }
-    let problem = BiasProblem {
-        fabric: p.fabric,
-        shear: p.shear,
-        length: h,
-        width: w,
-        stroke: d,
-        element_size,
-        points,
-        solver: p.solver,
-    };
-    problem
-        .check()
-        .map_err(|e| CliError::bad_input(e.to_string()))?;
-    Ok(problem)
-}
-
 pub fn exec(args: BiasArgs) -> Result<(), CliError> {
     let scene = SceneArgs {
         scene: Some(args.scene.clone()),
@@ -125,18 +75,14 @@ pub fn exec(args: BiasArgs) -> Result<(), CliError> {
     }
     .load()?;
     let size = [args.length, args.width, args.stroke];
-    let problem = problem(&scene, size, args.element_size, args.points)
-        .map_err(|e| CliError::bad_input(format!("{}: {}", args.scene.display(), e.message)))?;
-    let stem = args
-        .scene
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "scene".into());
-    let dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join(format!("bias-{stem}")));
-    wovenform::publish::prepare_run_dir(&dir).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let problem = specimen::bias_problem(&scene, size, args.element_size, args.points)
+        .map_err(|e| CliError::bad_input(format!("{}: {e}", args.scene.display())))?;
+    let dir = (args.out.clone()).unwrap_or_else(|| outputs::default_dir("bias-", &args.scene));
+    outputs::prepare(
+        &dir,
+        &bias_outputs(&dir),
+        &outputs::scene_inputs(Some(&args.scene), &scene),
+    )?;
     let bar = stderr_bar(1000, "{spinner} [{elapsed_precise}] {bar:40} {msg}");
     bar.set_message(format!("pulling to {} mm", problem.stroke));
     let start = std::time::Instant::now();
@@ -167,6 +113,17 @@ pub fn exec(args: BiasArgs) -> Result<(), CliError> {
         ))),
         None => Ok(()),
     }
+}
+
+/// What `bias` and `fit --bias` write into `dir` (a `bias.csv` only over one they wrote: a
+/// measured curve is often called so).
+pub fn bias_outputs(dir: &Path) -> Vec<wovenform::files::Output> {
+    let mut files = outputs::replaceable(dir, &["bias.png", "shear.png"]);
+    files.push(wovenform::files::Output::owned_if(
+        dir.join("bias.csv"),
+        outputs::BIAS_CSV_HEAD,
+    ));
+    files
 }
 
 fn print_json(p: &BiasProblem, r: &BiasResult, dep: &Departure, wall_s: f64, files: &[PathBuf]) {

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::CliError;
+use super::{CliError, outputs};
 use super::progress::stderr_bar;
 use super::scene_args::SceneArgs;
 use wovenform::publish;
@@ -54,12 +54,9 @@ pub fn exec(args: ConvergeArgs) -> Result<(), CliError> {
     };
     study::check_sizes(&sizes).map_err(|e| CliError::bad_input(e.to_string()))?;
     study::check_steps(&counts).map_err(|e| CliError::bad_input(e.to_string()))?;
-    std::fs::create_dir_all(&args.out).map_err(|e| {
-        CliError::bad_input(format!(
-            "{}: cannot write the output folder: {e}",
-            args.out.display()
-        ))
-    })?;
+    let files = outputs::replaceable(&args.out, &["converge.csv", "converge.png"]);
+    let inputs = outputs::scene_inputs(Some(&args.scene), &scene);
+    outputs::prepare(&args.out, &files, &inputs)?;
     let total = (sizes.len() + counts.len()) as u64;
     let bar = stderr_bar(
         total,

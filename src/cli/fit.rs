@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::CliError;
+use super::{CliError, outputs};
+use wovenform::files::Input;
 use super::scene_args::SceneArgs;
 use wovenform::publish;
 use wovenform::study::fit::{self as fitting, FitOptions};
@@ -18,7 +19,7 @@ pub struct FitArgs {
     /// Also identify the yarn stiffness C (one value for both yarns).
     #[arg(long)]
     pub fit_c: bool,
-    /// Folder for fit.png (default: the folder of DATA.csv).
+    /// Output folder (default: out/fit-<DATA stem>, with --bias out/fit-bias-<DATA stem>).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Fit the shear law to a bias-extension curve instead (DATA.csv with header
@@ -63,6 +64,10 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
     }
     let samples =
         fitting::read_samples(&args.data).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let dir = (args.out.clone()).unwrap_or_else(|| outputs::default_dir("fit-", &args.data));
+    let mut inputs = outputs::scene_inputs(args.scene.scene.as_deref(), &scene);
+    inputs.push(Input::new(&args.data, "the measured curves"));
+    outputs::prepare(&dir, &outputs::replaceable(&dir, &["fit.png"]), &inputs)?;
     let options = FitOptions {
         fit_c: args.fit_c,
         ..FitOptions::default()
@@ -109,13 +114,6 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
     println!("RMS residual = {:.4} N", result.rms_n);
     println!("points = {}", result.points);
     println!("iterations = {}", result.iterations);
-    let dir = match &args.out {
-        Some(d) => d.clone(),
-        None => match args.data.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => PathBuf::from("."),
-        },
-    };
     let name = args.data.file_name().unwrap_or(args.data.as_os_str());
     let png = publish::write_fit(&dir, &samples, &result, &name.to_string_lossy())?;
     println!("{}", png.display());

@@ -4,10 +4,11 @@
 
 use std::path::{Path, PathBuf};
 
-use super::CliError;
+use super::{CliError, outputs};
+use wovenform::files::{Input, Output};
 use super::progress::stderr_bar;
 use wovenform::core::bias::{BiasProblem, BiasResult, ideal_force, kinematic_limit};
-use wovenform::scene::Scene;
+use wovenform::scene::{Scene, specimen};
 use wovenform::study::fit::shear::{
     BiasPoint, BiasSpecimen, ShearFit, fit_points, fit_shear_law, read_bias_curve,
 };
@@ -42,9 +43,11 @@ pub struct BiasFitArgs<'a> {
     pub scene_file: Option<PathBuf>,
 }
 
+/// Increments of the finite-element test.
+const FE_POINTS: usize = 30;
+
 pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
     let bad = |e: String| CliError::bad_input(e);
-    let points = read_bias_curve(args.data).map_err(|e| bad(e.to_string()))?;
     let [length, width] = args.specimen;
     let specimen = BiasSpecimen {
         length,
@@ -52,11 +55,12 @@ pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
         max_shear_deg: args.max_shear_deg.unwrap_or(scene.fabric.locking_angle_deg),
         from_mm: args.from_mm,
     };
-    if length <= 1.5 * width {
-        return Err(bad(format!(
-            "--bias {length}x{width}: a bias specimen needs a length more than 1.5 times its width (usually twice), so that it has a central zone"
-        )));
-    }
+    // The specimen's sizes and the options first: the data's stroke is checked below.
+    let to_bad = |e: wovenform::scene::SceneError| bad(e.to_string().replace("--length", "--bias length").replace("--width", "--bias width"));
+    specimen::check_sizes([length, width, 1.0], args.element_size, FE_POINTS).map_err(to_bad)?;
+    specimen::check_fit_options(specimen.max_shear_deg, specimen.from_mm, args.refine)
+        .map_err(to_bad)?;
+    let points = read_bias_curve(args.data).map_err(|e| bad(e.to_string()))?;
     let used = fit_points(&specimen, &points);
     if used.len() < 4 {
         return Err(bad(format!(
@@ -68,6 +72,15 @@ pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
             kinematic_limit(length, width)
         )));
     }
+    let dir = (args.out.clone()).unwrap_or_else(|| outputs::default_dir("fit-bias-", args.data));
+    let mut inputs = outputs::scene_inputs(args.scene_file.as_deref(), scene);
+    inputs.push(Input::new(args.data, "the measured bias-extension curve"));
+    let mut files = super::bias::bias_outputs(&dir);
+    files.push(Output::owned_if(
+        dir.join("fabric.toml"),
+        outputs::FABRIC_TOML_HEAD,
+    ));
+    outputs::prepare(&dir, &files, &inputs)?;
     let stroke = used.last().map(|p| p.displacement_mm).unwrap_or(1.0);
     let mut problem = BiasProblem {
         fabric: scene.to_cell_params(),
@@ -76,7 +89,7 @@ pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
         width,
         stroke,
         element_size: args.element_size,
-        points: 30,
+        points: FE_POINTS,
         solver: scene.to_problem().solver,
     };
     let no_fit = || {
@@ -115,13 +128,6 @@ pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
     bar.finish_and_clear();
     let result = last.expect("at least one pass");
     report(&specimen, &fit, &result, &used, args.refine);
-    let dir = args.out.clone().unwrap_or_else(|| {
-        args.data
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .map(Path::to_path_buf)
-            .unwrap_or_else(|| PathBuf::from("."))
-    });
     let measured: Vec<(f64, f64)> = points
         .iter()
         .map(|p| (p.displacement_mm, p.force_n))

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use super::CliError;
+use super::{CliError, outputs};
 use super::scene_args::SceneArgs;
 use wovenform::core::law::CellLaw;
 use wovenform::publish::write_figure6;
@@ -72,6 +72,9 @@ pub fn exec(args: LawArgs) -> Result<(), CliError> {
             .out
             .as_deref()
             .expect("clap requires --out with --curves");
+        let files = outputs::replaceable(out, &["figure6.csv", "figure6.png"]);
+        let inputs = outputs::scene_inputs(args.scene.scene.as_deref(), &scene);
+        outputs::prepare(out, &files, &inputs)?;
         let written = write_figure6(params, out)?;
         for path in written {
             println!("{}", path.display());

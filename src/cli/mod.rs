@@ -13,6 +13,7 @@ mod fit;
 mod fit_bias;
 mod law;
 mod merge;
+mod outputs;
 mod progress;
 mod run;
 mod scene_args;

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::CliError;
+use super::{CliError, outputs};
 use super::progress::stroke_bar;
 use super::scene_args::{SceneArgs, parse_accuracy, with_accuracy};
 use wovenform::accuracy::Accuracy;
@@ -47,7 +47,9 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
         .unwrap_or_else(|| "scene".into());
     // The output folder is checked before the solve, so a bad one costs nothing.
     let dir = args.out.unwrap_or_else(|| Path::new("out").join(&name));
-    wovenform::publish::prepare_run_dir(&dir).map_err(|e| CliError::bad_input(e.to_string()))?;
+    let inputs = outputs::scene_inputs(Some(&args.scene), &scene);
+    let files = outputs::replaceable(&dir, &wovenform::publish::RUN_FILES);
+    outputs::prepare(&dir, &files, &inputs)?;
     let problem = scene.to_problem();
     let bar = stroke_bar(problem.stroke);
     let start = std::time::Instant::now();

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use super::outputs::{self, STL_HEAD};
 use super::CliError;
+use wovenform::files::Output;
 use super::scene_args::SceneArgs;
 use wovenform::core::drawing::Tooling;
 use wovenform::core::tools::capped::{grid_points, tool_surfaces};
@@ -41,9 +43,11 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
     }
     .load()?;
     let problem = scene.to_problem();
+    let files = ["punch.stl", "die.stl"].map(|n| Output::owned_if(args.out.join(n), STL_HEAD));
+    let inputs = outputs::scene_inputs(Some(&args.scene), &scene);
     if let Tooling::Mesh { punch, die } = &problem.tooling {
         // Tools read from STL are written back as read.
-        make_folder(&args.out)?;
+        outputs::prepare(&args.out, &files, &inputs)?;
         for (name, tool) in [("punch", punch), ("die", die)] {
             let path = args.out.join(format!("{name}.stl"));
             let surface = tool.surface();
@@ -67,7 +71,7 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
             args.spacing,
         ),
     )?;
-    make_folder(&args.out)?;
+    outputs::prepare(&args.out, &files, &inputs)?;
     let start = std::time::Instant::now();
     let (punch, die) = tool_surfaces(
         &problem.tooling,
@@ -88,15 +92,6 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
     }
     eprintln!("tessellated in {wall_s:.2} s");
     Ok(())
-}
-
-fn make_folder(out: &Path) -> Result<(), CliError> {
-    std::fs::create_dir_all(out).map_err(|e| {
-        CliError::bad_input(format!(
-            "{}: cannot create the output folder: {e}",
-            out.display()
-        ))
-    })
 }
 
 /// Refuses a spacing that is not a positive length, that is coarser than the tools' smallest

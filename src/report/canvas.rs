@@ -10,6 +10,8 @@
 
 use std::sync::OnceLock;
 
+use image::ImageEncoder as _;
+
 use ab_glyph::{Font, FontRef, GlyphId, PxScale, ScaleFont, point};
 use plotters::prelude::*;
 use plotters_backend::text_anchor::{HPos, VPos};
@@ -24,15 +26,34 @@ pub type Area<'a> = DrawingArea<Canvas<'a>, plotters::coord::Shift>;
 pub struct Canvas<'a>(BitMapBackend<'a>);
 
 impl<'a> Canvas<'a> {
-    /// A picture of `size` pixels to be written to `path` when presented.
-    pub fn new(path: &'a std::path::Path, size: (u32, u32)) -> Self {
-        Canvas(BitMapBackend::new(path, size))
-    }
-
-    /// The same over an RGB buffer of `size` pixels (tests).
+    /// The same over an RGB buffer of `size` pixels.
     pub fn with_buffer(buffer: &'a mut [u8], size: (u32, u32)) -> Self {
         Canvas(BitMapBackend::with_buffer(buffer, size))
     }
+}
+
+/// Draws a picture of `size` pixels with `draw` in memory and writes it to `path` as PNG,
+/// whole ([`crate::files::write_atomic`]): a failed write (a full disk) leaves no half or empty
+/// file. Errors name the file and the picture (`what`: chart, map, sheet).
+pub fn write_png(
+    path: &std::path::Path,
+    size: (u32, u32),
+    what: &'static str,
+    draw: impl FnOnce(&Area<'_>) -> Result<(), String>,
+) -> Result<(), super::error::DrawError> {
+    let fail = super::error::DrawError::at(path, what);
+    let mut pixels = vec![0u8; 3 * size.0 as usize * size.1 as usize];
+    {
+        let root = Canvas::with_buffer(&mut pixels, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(&e))?;
+        draw(&root).map_err(|e| fail(&e))?;
+        root.present().map_err(|e| fail(&e))?;
+    }
+    let mut png = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(&pixels, size.0, size.1, image::ExtendedColorType::Rgb8)
+        .map_err(|e| fail(&e))?;
+    crate::files::write_atomic(path, &png).map_err(|e| fail(&format!("cannot write it: {e}")))
 }
 
 /// The three faces of DejaVu Sans: regular, bold, oblique.

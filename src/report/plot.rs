@@ -11,7 +11,7 @@
 //! chart.write_png(std::path::Path::new("out/chart.png")).unwrap();
 //! ```
 
-use super::canvas::{Area, Canvas};
+use super::canvas::{Area, write_png};
 use super::error::DrawError;
 use std::path::Path;
 use std::sync::Once;
@@ -221,12 +221,7 @@ impl LineChart {
     /// Draws the chart to a PNG file. Errors name the file.
     pub fn write_png(&self, path: &Path) -> Result<(), DrawError> {
         register_fonts();
-        let fail = DrawError::at(path, "chart");
-        let root = Canvas::new(path, self.size).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| fail(&e))?;
-        self.draw_into(&root).map_err(|e| fail(&e))?;
-        root.present().map_err(|e| fail(&e))?;
-        Ok(())
+        write_png(path, self.size, "chart", |root| self.draw_into(root))
     }
 
     /// Draws the chart into a part of a larger picture (a report sheet); `self.size` is not

@@ -96,7 +96,7 @@ pub struct Sheet {
     pub ranking: Vec<(Option<Verdict>, String)>,
 }
 
-use super::canvas::{Area, Canvas};
+use super::canvas::{Area, write_png};
 
 const MARGIN: i32 = 30;
 const TITLE_H: i32 = 40 + 2 * 8;
@@ -143,13 +143,8 @@ impl Sheet {
     /// Draws the sheet to a PNG file. Errors name the file.
     pub fn write_png(&self, path: &Path) -> Result<(), DrawError> {
         register_fonts();
-        let fail = DrawError::at(path, "sheet");
         let size = self.size();
-        let root = Canvas::new(path, size).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| fail(&e))?;
-        self.draw(&root, size).map_err(|e| fail(&e))?;
-        root.present().map_err(|e| fail(&e))?;
-        Ok(())
+        write_png(path, size, "sheet", |root| self.draw(root, size))
     }
 
     fn draw(&self, root: &Area, (width, _): (u32, u32)) -> Result<(), String> {

@@ -49,6 +49,7 @@
 mod keys;
 mod mesh_tools;
 mod overrides;
+pub mod specimen;
 mod types;
 mod validate;
 

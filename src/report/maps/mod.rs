@@ -257,7 +257,7 @@ pub fn die_opening_outline(tooling: &Tooling) -> Vec<[f64; 2]> {
     tooling.die_opening_outline()
 }
 
-use super::canvas::{Area, Canvas};
+use super::canvas::{Area, write_png};
 
 impl FieldMap {
     /// The top of the colour scale: the shared one when given ([`FieldMap::scale_max`]), else
@@ -300,12 +300,7 @@ impl FieldMap {
     /// Draws the map to a PNG file. Errors name the file.
     pub fn write_png(&self, path: &Path) -> Result<(), DrawError> {
         register_fonts();
-        let fail = DrawError::at(path, "map");
-        let root = Canvas::new(path, self.size).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| fail(&e))?;
-        self.draw(&root).map_err(|e| fail(&e))?;
-        root.present().map_err(|e| fail(&e))?;
-        Ok(())
+        write_png(path, self.size, "map", |root| self.draw(root))
     }
 
     fn draw(&self, root: &Area) -> Result<(), String> {

@@ -4,7 +4,6 @@
 
 use std::collections::{HashMap, HashSet};
 use std::fs;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -93,14 +92,7 @@ pub fn read_lock(dir: &Path) -> Result<Lock, StoreError> {
 /// Writes `text` to `path` through a temporary file in the same folder and a rename (never
 /// half a file).
 pub fn write_atomic(path: &Path, text: &str) -> Result<(), StoreError> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
-    let dir = dir.unwrap_or(Path::new("."));
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(StoreError::io(dir, "write"))?;
-    tmp.write_all(text.as_bytes())
-        .map_err(StoreError::io(tmp.path(), "write"))?;
-    tmp.persist(path)
-        .map_err(|e| StoreError::io(path, "write")(e.error))?;
-    Ok(())
+    crate::files::write_atomic(path, text.as_bytes()).map_err(StoreError::io(path, "write"))
 }
 
 /// Creates `dir`, `dir/maps` and `dir/fields` and writes `dir/sweep.lock`.
