@@ -23,32 +23,28 @@ const SCENES: [(&str, &str); 2] = [
 /// (its export folder is `paper-box-explorer-export`).
 pub const EXPLORER_NAME: &str = "paper-box-explorer";
 
-/// The explorer's default sweep as a sweep document, nothing read from the disk: the preset
-/// with its `base` file's scene put in as the inline `[scene]` table.
+/// The explorer's default sweep as a sweep document; its `base` is one of [`SCENES`], which
+/// [`plan`] reads from the binary, nothing from the disk.
 pub fn explorer_document() -> toml::Table {
-    let mut doc: toml::Table = PAPER_BOX_EXPLORER
+    let doc: toml::Table = PAPER_BOX_EXPLORER
         .parse()
         .expect("the embedded sweep preset is valid TOML");
-    let Some(toml::Value::String(base)) = doc.remove("base") else {
-        panic!("the embedded sweep preset names its base scene");
-    };
+    let base = doc.get("base").and_then(toml::Value::as_str);
     assert!(
-        !doc.contains_key("scene"),
-        "the embedded sweep preset has no [scene] table of its own"
+        SCENES.iter().any(|(name, _)| Some(*name) == base),
+        "the embedded sweep preset's base is an embedded scene"
     );
-    let text = SCENES
-        .iter()
-        .find(|(name, _)| *name == base)
-        .map(|(_, text)| *text)
-        .expect("the embedded sweep preset's base is an embedded scene");
-    let scene: toml::Table = text.parse().expect("the embedded scene is valid TOML");
-    doc.insert("scene".into(), toml::Value::Table(scene));
     doc
+}
+
+/// The plan of a sweep document whose `base` may be a scene the binary carries ([`SCENES`]).
+pub fn plan(path: &Path, doc: &toml::Table, sets: &[String]) -> Result<Plan, SweepError> {
+    Plan::from_document_with(path, doc, sets, &SCENES)
 }
 
 /// The plan of the explorer's default sweep with `sets` (`KEY=VALUE`) over its base scene.
 pub fn explorer_sweep(sets: &[String]) -> Result<Plan, SweepError> {
-    Plan::from_document(Path::new(EXPLORER_NAME), &explorer_document(), sets)
+    plan(Path::new(EXPLORER_NAME), &explorer_document(), sets)
 }
 
 #[cfg(test)]

@@ -118,7 +118,7 @@ impl RunSummary {
         );
         let _ = writeln!(
             out,
-            "solver       {} step{}, {} cut-back{}, {} Newton iteration{}, {:.2} s; forces out of balance did {:.1e} % of the punch's work{}{}",
+            "solver       {} step{}, {} cut-back{}, {} Newton iteration{}, {:.2} s; forces out of balance did {}{}{}",
             self.steps,
             plural(self.steps as usize),
             self.cutbacks,
@@ -126,7 +126,7 @@ impl RunSummary {
             self.newton_iterations,
             plural(self.newton_iterations as usize),
             self.wall_s,
-            100.0 * self.stabilisation_work_share,
+            share_text(self.stabilisation_work_share),
             if self.mechanism {
                 "; a singular tangent was met (part of the blank was a mechanism)"
             } else {
@@ -180,5 +180,15 @@ impl RunSummary {
                 let _ = writeln!(out, "{path}");
             }
         }
+    }
+}
+
+/// A small share as a percentage (`2.1e-5 %`); one over 1 as a multiple (`4.0e9 times`), a
+/// percentage of which no one reads.
+fn share_text(share: f64) -> String {
+    if share > 1.0 {
+        format!("{share:.1e} times the punch's work")
+    } else {
+        format!("{:.1e} % of the punch's work", 100.0 * share)
     }
 }

@@ -22,6 +22,16 @@ pub fn lookup<'a>(table: &'a toml::Table, key: &str) -> Option<&'a toml::Value> 
     Some(v)
 }
 
+/// A value of the shape of `key` when it is a key a scene may leave unset (it has no default:
+/// `fabric.shear_moment`); `None` for every other key.
+pub fn unset_key_shape(key: &str) -> Option<toml::Value> {
+    let mut full = Scene::default();
+    full.fabric.shear_moment = Some([0.0; 3]);
+    let table = toml::Table::try_from(&full).ok()?;
+    let empty = toml::Table::try_from(Scene::default()).ok()?;
+    lookup(&empty, key).is_none().then(|| lookup(&table, key).cloned())?
+}
+
 /// Whether `key` is written as a dotted key: parts of ASCII letters, digits, `_` and `-`,
 /// joined by dots (TOML's bare keys).
 pub(super) fn is_dotted_key(key: &str) -> bool {

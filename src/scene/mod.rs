@@ -60,7 +60,7 @@ use serde::{Deserialize, Serialize};
 use crate::core::drawing::{DrawingProblem, Symmetry};
 use crate::core::law::CellParams;
 
-pub use keys::{differences, lookup};
+pub use keys::{differences, lookup, unset_key_shape};
 pub use mesh_tools::forget_mesh_tools;
 pub use overrides::Override;
 pub use types::{

@@ -13,7 +13,8 @@ pub struct Override {
     /// Dotted key, e.g. `fabric.l0`.
     pub key: String,
     pub value: toml::Value,
-    /// The text as given, for error messages.
+    /// The text as given, for error messages: line breaks written `\n`, and a long one cut
+    /// to its first characters (see [`excerpt`]).
     pub text: String,
 }
 
@@ -21,7 +22,8 @@ impl FromStr for Override {
     type Err = SceneError;
 
     fn from_str(text: &str) -> Result<Self, SceneError> {
-        let origin = format!("--set {}", text.replace('\n', "\\n").replace('\r', "\\r"));
+        let shown = excerpt(&text.replace('\n', "\\n").replace('\r', "\\r"));
+        let origin = format!("--set {shown}");
         let err = |key: Option<String>, detail: String| SceneError {
             origin: origin.clone(),
             key,
@@ -45,7 +47,10 @@ impl FromStr for Override {
         if !is_dotted_key(key) {
             return Err(err(
                 None,
-                format!("`{key}` is not a key: expected a dotted key such as fabric.a"),
+                format!(
+                    "`{}` is not a key: expected a dotted key such as fabric.a",
+                    excerpt(key)
+                ),
             ));
         }
         let doc = format!("v = {}", value.trim());
@@ -59,15 +64,39 @@ impl FromStr for Override {
                     Some(key.to_string()),
                     format!(
                         "{key} = {}: expected a TOML literal (a number, true/false, [a, b], or a \"quoted string\")",
-                        value.trim()
+                        excerpt(value.trim())
                     ),
                 )
             })?;
         Ok(Override {
             key: key.to_string(),
             value,
-            text: text.to_string(),
+            text: shown,
         })
+    }
+}
+
+/// The longest text a message quotes from the user, characters.
+const EXCERPT_CHARS: usize = 80;
+
+/// `text` as a message quotes it: whole when short, else its first characters and its length
+/// (a 100 kB value is not echoed back).
+pub fn excerpt(text: &str) -> String {
+    let count = text.chars().count();
+    if count <= EXCERPT_CHARS {
+        return text.to_string();
+    }
+    let head: String = text.chars().take(EXCERPT_CHARS - 20).collect();
+    format!("{head}… ({count} characters)")
+}
+
+/// A message from a library that may quote a user's long value: whole up to 4 lines' worth,
+/// else cut as [`excerpt`] does.
+fn excerpt_long(text: &str) -> String {
+    if text.chars().count() <= 4 * EXCERPT_CHARS {
+        text.to_string()
+    } else {
+        excerpt(text)
     }
 }
 
@@ -144,16 +173,18 @@ pub(super) fn structural_error(
         let section = if key.contains('.') { "key" } else { "section" };
         return SceneError {
             origin: origin_of(&key),
-            detail: format!("{key}: unknown {section}; {expected}"),
+            detail: format!("{}: unknown {section}; {expected}", excerpt(&key)),
             key: Some(key),
         };
     }
     let shown = lookup(table, path)
-        .map(|v| format!(" = {v}"))
+        .map(|v| format!(" = {}", excerpt(&v.to_string())))
         .unwrap_or_default();
+    // serde's message may quote the value too.
+    let message = excerpt_long(message);
     SceneError {
         origin: origin_of(path),
-        detail: format!("{path}{shown}: {message}"),
+        detail: format!("{}{shown}: {message}", excerpt(path)),
         key: Some(path.to_string()),
     }
 }

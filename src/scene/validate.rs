@@ -10,6 +10,9 @@ use std::fmt;
 use super::types::{Num, PerYarn, PlanPair, SymmetryChoice, ToolKind};
 use super::{Scene, SceneError};
 
+/// The shortest punch stroke, mm.
+pub const MIN_STROKE_MM: f64 = 0.01;
+
 /// A broken bound: the key blamed, the keys involved (to find who set them) and the message
 /// (which starts with the key).
 struct Broken {
@@ -254,8 +257,10 @@ impl Scene {
             let what = "a blank-holder pressure in [0, 50] MPa";
             broken("process.holder_pressure", Num(p.holder_pressure), what)
         })?;
-        ok_if(pos(p.stroke), || {
-            broken("process.stroke", Num(p.stroke), "a punch stroke > 0 mm")
+        ok_if(p.stroke >= MIN_STROKE_MM && p.stroke.is_finite(), || {
+            let what = "a punch stroke of at least 0.01 mm (10 µm: less draws nothing a press \
+                        could set, and its work is within the solver's tolerance)";
+            broken("process.stroke", Num(p.stroke), what)
         })?;
         let t = &self.tools;
         let Some(depth) = t.punch_depth() else {

@@ -54,6 +54,7 @@ pub fn source_of_file(path: &std::path::Path) -> Result<Source, String> {
         path: path.to_path_buf(),
         title: path.display().to_string(),
         doc,
+        embedded: false,
     })
 }
 

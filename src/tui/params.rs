@@ -20,6 +20,21 @@ pub struct Source {
     /// What the title bar calls it.
     pub title: String,
     pub doc: toml::Table,
+    /// Whether it is the embedded default, whose `base` the binary carries (a user's sweep
+    /// reads its `base` from the disk, whatever its name).
+    pub embedded: bool,
+}
+
+impl Source {
+    /// The plan of `doc` (this source's document, edited) with `sets`.
+    fn plan(&self, doc: &toml::Table, sets: &[String]) -> Result<Plan, String> {
+        let plan = if self.embedded {
+            presets::plan(&self.path, doc, sets)
+        } else {
+            Plan::from_document(&self.path, doc, sets)
+        };
+        plan.map_err(|e| e.to_string())
+    }
 }
 
 /// The embedded default, `presets/paper-box-explorer.toml`: the paper's square box (the
@@ -30,6 +45,7 @@ pub fn default_source() -> Source {
         path: PathBuf::from(presets::EXPLORER_NAME),
         title: "paper box (default)".into(),
         doc: presets::explorer_document(),
+        embedded: true,
     }
 }
 
@@ -148,7 +164,7 @@ impl Parameters {
     /// their base values.
     pub fn new(source: Source) -> Result<Parameters, String> {
         let plan =
-            Plan::from_document(&source.path, &source.doc, &[]).map_err(|e| e.to_string())?;
+            source.plan(&source.doc, &[])?;
         let locking_angle_deg = plan.base_scene.fabric.locking_angle_deg;
         let break_tension_n = plan.base_scene.fabric.break_tension_n;
         let h = plan.base_scene.mesh.element_size;
@@ -246,7 +262,7 @@ impl Parameters {
             }
         }
         doc.insert("sweep".into(), toml::Value::Table(sweep));
-        Plan::from_document(&self.source.path, &doc, &self.sets()).map_err(|e| e.to_string())
+        self.source.plan(&doc, &self.sets())
     }
 
     /// The base scene's value of a key (what the typed values must look like).

@@ -19,7 +19,11 @@ pub enum Unsound {
     /// A node sank into a tool by more than [`PENETRATION_LIMIT`] of the element size.
     Penetration { mm: f64, limit_mm: f64 },
     /// Forces out of balance did more than [`UNBALANCED_WORK_LIMIT`] of the punch's work.
-    Unbalanced { share: f64, limit: f64 },
+    Unbalanced {
+        share: f64,
+        limit: f64,
+        punch_work_nmm: f64,
+    },
 }
 
 impl std::fmt::Display for Unsound {
@@ -31,7 +35,20 @@ impl std::fmt::Display for Unsound {
                  size ({limit_mm:.3} mm): raise numerics.penalty_factor",
                 100.0 * PENETRATION_LIMIT
             ),
-            Unsound::Unbalanced { share, limit } => write!(
+            // Over the punch's work, the share is no longer a useful number: say the works.
+            Unsound::Unbalanced {
+                share,
+                limit,
+                punch_work_nmm,
+            } if *share > 1.0 => write!(
+                f,
+                "forces out of balance did {:.3e} N·mm of work, more than the punch's own \
+                 {punch_work_nmm:.3e} N·mm (at most {:.0} % of it is sound): the punch does too \
+                 little work for the solver's tolerance to resolve",
+                share * punch_work_nmm,
+                100.0 * limit
+            ),
+            Unsound::Unbalanced { share, limit, .. } => write!(
                 f,
                 "forces out of balance did {:.1} % of the punch's work (at most {:.0} % is \
                  sound)",
@@ -200,6 +217,7 @@ impl DrawingResult {
             why.push(Unsound::Unbalanced {
                 share: self.unbalanced_work_share,
                 limit: UNBALANCED_WORK_LIMIT,
+                punch_work_nmm: self.punch_work_nmm,
             });
         }
         why

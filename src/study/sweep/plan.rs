@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::SweepError;
 use super::values::{as_number, fnv_hex, show_value};
-use crate::scene::{Override, Scene, lookup};
+use crate::scene::{Override, Scene, lookup, unset_key_shape};
 
 /// The box's five short names and the scene keys they stand for, in grid order.
 pub const SHORT_NAMES: [(&str, &str); 5] = [
@@ -109,6 +109,17 @@ impl Plan {
         doc: &toml::Table,
         sets: &[String],
     ) -> Result<Plan, SweepError> {
+        Plan::from_document_with(path, doc, sets, &[])
+    }
+
+    /// [`Plan::from_document`] with scene files the binary carries: a `base` named in
+    /// `embedded` (name, text) is that text, not a file read from the disk.
+    pub fn from_document_with(
+        path: &Path,
+        doc: &toml::Table,
+        sets: &[String],
+        embedded: &[(&str, &str)],
+    ) -> Result<Plan, SweepError> {
         let file = path.display().to_string();
         let bad = |detail: String| SweepError::BadInput(format!("{file}: {detail}"));
         for key in doc.keys() {
@@ -118,7 +129,7 @@ impl Plan {
                 )));
             }
         }
-        let base = BaseText::of(path, doc)?;
+        let base = BaseText::of(path, doc, embedded)?;
         let overrides = parse_sets(sets)?;
         let base_scene = Scene::from_toml_str(&base.text, &base.origin, &overrides)?;
         let scene_table = toml::Table::try_from(&base_scene)
@@ -169,11 +180,18 @@ struct BaseText {
 }
 
 impl BaseText {
-    fn of(path: &Path, doc: &toml::Table) -> Result<BaseText, SweepError> {
+    fn of(
+        path: &Path,
+        doc: &toml::Table,
+        embedded: &[(&str, &str)],
+    ) -> Result<BaseText, SweepError> {
         let sweep_file = path.display().to_string();
         let bad = |detail: String| SweepError::BadInput(format!("{sweep_file}: {detail}"));
         let file = match doc.get("base") {
             None => None,
+            Some(toml::Value::String(s)) if embedded.iter().any(|(name, _)| name == s) => {
+                Some(PathBuf::from(s))
+            }
             Some(toml::Value::String(s)) => Some(path.parent().unwrap_or(Path::new("")).join(s)),
             Some(v) => {
                 return Err(bad(format!(
@@ -187,6 +205,10 @@ impl BaseText {
             Some(v) => return Err(bad(format!("scene = {v}: expected a [scene] table"))),
         };
         let read = |b: &Path| {
+            let carried = embedded.iter().find(|(name, _)| Path::new(name) == b);
+            if let Some((_, text)) = carried {
+                return Ok(text.to_string());
+            }
             fs::read_to_string(b).map_err(|e| {
                 bad(format!(
                     "base = {}: cannot read the scene file: {e}",
@@ -275,7 +297,9 @@ fn axis_of(name: &str, value: &toml::Value, scene: &toml::Table) -> Result<Axis,
              (or sweep scene files with other tools)"
         ));
     }
-    let base_value = match lookup(scene, &key) {
+    // A key the base leaves unset (the shear law) is swept over the shape it takes.
+    let unset = lookup(scene, &key).is_none().then(|| unset_key_shape(&key)).flatten();
+    let base_value = match lookup(scene, &key).or(unset.as_ref()) {
         Some(toml::Value::Table(_)) | None => {
             return Err(format!(
                 "sweep.{name}: unknown key; expected a scene key (such as tools.r, process.stroke or mesh.element_size) or a short name: r, rp, rm, friction, holder_pressure"
