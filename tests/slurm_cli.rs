@@ -150,3 +150,97 @@ fn submit_passes_the_array_id_to_the_merge() {
         assert!(String::from_utf8_lossy(&o.stderr).contains(bad[0]));
     }
 }
+
+fn slurm(args: &[&str], out: &Path) -> std::process::Output {
+    Command::new(bin())
+        .arg("slurm")
+        .arg(sweep_file())
+        .arg("--out")
+        .arg(out)
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+/// `args` with `--tasks 2` unless they give --tasks.
+fn with_tasks<'a>(args: &[&'a str]) -> Vec<&'a str> {
+    let mut all = args.to_vec();
+    if !args.iter().any(|a| a.starts_with("--tasks")) {
+        all.extend(["--tasks", "2"]);
+    }
+    all
+}
+
+#[test]
+fn slurm_options_are_checked_as_slurm_takes_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    // Every form of sbatch --time, and the largest counts: written as given.
+    for (i, (option, value)) in [
+        ("--time", "1440"),
+        ("--time", "100000"),
+        ("--time", "UNLIMITED"),
+        ("--time", "infinite"),
+        ("--time", "90:30"),
+        ("--time", "2-12"),
+        ("--time", "2-12:30"),
+        ("--time", "10-00:00:00"),
+        ("--cpus-per-task", "4096"),
+        ("--tasks", "4000000"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = tmp.path().join(format!("ok{i}"));
+        let o = slurm(&with_tasks(&[option, value]), &out);
+        assert!(o.status.success(), "{option} {value}: {}", stderr(&o));
+        let array = std::fs::read_to_string(out.join("slurm/array.sh")).unwrap();
+        if option != "--tasks" {
+            assert!(
+                array.contains(&format!("#SBATCH {option}={value}\n")),
+                "{array}"
+            );
+        }
+    }
+    // Nonsense: refused before anything is written.
+    for (i, (option, value)) in [
+        ("--time", "1h"),
+        ("--time", "-1"),
+        ("--time", "01;rm"),
+        ("--time", "1-"),
+        ("--time", "1:2:3:4"),
+        ("--time", "forever"),
+        ("--time", "99999999999"),
+        ("--tasks", "0"),
+        ("--tasks", "4000001"),
+        ("--tasks", "1000000000"),
+        ("--cpus-per-task", "0"),
+        ("--cpus-per-task", "4097"),
+        ("--cpus-per-task", "1000000000"),
+        ("--cpus-per-task", "1e9"),
+        ("--min-task-s", "inf"),
+        ("--min-task-s", "NaN"),
+        ("--min-task-s", "-1"),
+        ("--partition", "a b"),
+        ("--partition", "a\nb"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = tmp.path().join(format!("bad{i}"));
+        let o = slurm(&with_tasks(&[&format!("{option}={value}")]), &out);
+        assert_eq!(o.status.code(), Some(2), "{option} {value}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(option),
+            "{option} {value}: {}",
+            stderr(&o)
+        );
+        assert!(
+            !out.exists(),
+            "{option} {value}: written before the refusal"
+        );
+    }
+}

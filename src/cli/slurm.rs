@@ -9,7 +9,7 @@ use clap::Args;
 use super::CliError;
 use super::scene_args::{parse_accuracy, with_accuracy};
 use wovenform::accuracy::Accuracy;
-use wovenform::study::slurm::{ArrayJob, is_slurm_time, tasks_for};
+use wovenform::study::slurm::{ArrayJob, MAX_CPUS_PER_TASK, MAX_TASKS, is_slurm_time, tasks_for};
 use wovenform::study::sweep::Plan;
 
 #[derive(Args, Debug)]
@@ -24,16 +24,17 @@ pub struct SlurmArgs {
     /// logs to DIR/slurm.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Array tasks at most (fewer when the designs are too quick to fill them).
+    /// Array tasks at most (fewer when the designs are too quick to fill them), 1 to 4000000.
     #[arg(long, value_name = "N")]
     pub tasks: usize,
-    /// CPUs per task (each task runs that many designs at once).
+    /// CPUs per task (each task runs that many designs at once), 1 to 4096.
     #[arg(long, value_name = "C", default_value_t = 1)]
     pub cpus_per_task: usize,
     /// Slurm partition.
     #[arg(long, value_name = "P")]
     pub partition: Option<String>,
-    /// Wall-time limit per task, HH:MM:SS (or D-HH:MM:SS).
+    /// Wall-time limit per task, as sbatch --time takes it: MINUTES, MM:SS, HH:MM:SS, D-HH,
+    /// D-HH:MM, D-HH:MM:SS or UNLIMITED.
     #[arg(long, value_name = "HH:MM:SS")]
     pub time: Option<String>,
     /// Accuracy level of every design: coarse, standard or fine.
@@ -72,14 +73,23 @@ fn check(args: &SlurmArgs) -> Result<(), CliError> {
             args.min_task_s
         )));
     }
-    if args.tasks == 0 || args.cpus_per_task == 0 {
-        return Err(CliError::bad_input(
-            "--tasks and --cpus-per-task: expected at least 1",
-        ));
+    if !(1..=MAX_TASKS).contains(&args.tasks) {
+        return Err(CliError::bad_input(format!(
+            "--tasks {}: expected 1 to {MAX_TASKS} array tasks (Slurm's largest job array)",
+            args.tasks
+        )));
+    }
+    if !(1..=MAX_CPUS_PER_TASK).contains(&args.cpus_per_task) {
+        return Err(CliError::bad_input(format!(
+            "--cpus-per-task {}: expected 1 to {MAX_CPUS_PER_TASK} (a task's CPUs are on one node)",
+            args.cpus_per_task
+        )));
     }
     if let Some(t) = args.time.as_deref().filter(|t| !is_slurm_time(t)) {
         return Err(CliError::bad_input(format!(
-            "--time {t}: expected a Slurm time limit such as 01:30:00 or 2-00:00:00"
+            "--time {t:?}: expected a Slurm time limit: MINUTES, MINUTES:SECONDS, HH:MM:SS, \
+             DAYS-HH, DAYS-HH:MM, DAYS-HH:MM:SS (at most 2^31 - 1 s) or UNLIMITED, \
+             e.g. 90, 01:30:00 or 2-00:00:00"
         )));
     }
     if let Some(p) = args.partition.as_deref().filter(|p| {

@@ -8,6 +8,18 @@ use std::path::PathBuf;
 /// At least this much estimated work per task, s: tiny designs are not one allocation each.
 pub const MIN_TASK_WORK_S: f64 = 120.0;
 
+/// The most array tasks: Slurm's `MaxArraySize` may not exceed 4000001 (task indices up to
+/// 4000000), so no cluster runs a larger array.
+pub const MAX_TASKS: usize = 4_000_000;
+
+/// The most CPUs per task: a task's CPUs are on one node, and the largest nodes hold well
+/// under 4096 hardware threads (two 192-core processors with two threads a core make 768);
+/// more is a typo, not a machine.
+pub const MAX_CPUS_PER_TASK: usize = 4096;
+
+/// The longest time limit, s: sbatch reads `--time` into a C `int` of seconds.
+const MAX_TIME_S: u64 = i32::MAX as u64;
+
 /// What the scripts need.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ArrayJob {
@@ -23,7 +35,7 @@ pub struct ArrayJob {
     pub tasks: usize,
     pub cpus_per_task: usize,
     pub partition: Option<String>,
-    /// Wall-time limit per task, as Slurm writes it (`HH:MM:SS` or `D-HH:MM:SS`).
+    /// Wall-time limit per task, as Slurm writes it (see [`is_slurm_time`]).
     pub time: Option<String>,
 }
 
@@ -45,19 +57,45 @@ pub fn tasks_for(
     requested.min(designs).min(by_work).max(1)
 }
 
-/// Whether `text` is a Slurm time limit: `MM`, `MM:SS`, `HH:MM:SS`, `D-HH`, `D-HH:MM` or
-/// `D-HH:MM:SS`, digits only.
+/// Whether `text` is a time limit `sbatch --time` takes: "minutes", "minutes:seconds",
+/// "hours:minutes:seconds", "days-hours", "days-hours:minutes" or
+/// "days-hours:minutes:seconds" (digits, as many as wanted, up to sbatch's longest limit of
+/// 2³¹ − 1 s), or `UNLIMITED` / `INFINITE` in any case.
 pub fn is_slurm_time(text: &str) -> bool {
+    ["unlimited", "infinite"]
+        .iter()
+        .any(|w| text.eq_ignore_ascii_case(w))
+        || slurm_time_s(text).is_some_and(|s| s <= MAX_TIME_S)
+}
+
+/// The seconds of a time limit in one of sbatch's forms; `None` for any other text.
+fn slurm_time_s(text: &str) -> Option<u64> {
+    // Digits only, leading zeros or not; a number past u64 is past any limit.
+    let number = |s: &str| {
+        (!s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()))
+            .then(|| s.parse::<u64>().ok())
+            .flatten()
+    };
     let (days, rest) = match text.split_once('-') {
-        Some((d, r)) => (Some(d), r),
+        Some((d, r)) => (Some(number(d)?), r),
         None => (None, text),
     };
-    let digits = |s: &str| !s.is_empty() && s.len() <= 3 && s.bytes().all(|b| b.is_ascii_digit());
-    if days.is_some_and(|d| !digits(d)) {
-        return false;
+    let parts: Vec<u64> = rest.split(':').map(number).collect::<Option<_>>()?;
+    // Seconds per unit of each part, by form.
+    let units: &[u64] = match (days.is_some(), parts.len()) {
+        (false, 1) => &[60],
+        (false, 2) => &[60, 1],
+        (false, 3) => &[3600, 60, 1],
+        (true, 1) => &[3600],
+        (true, 2) => &[3600, 60],
+        (true, 3) => &[3600, 60, 1],
+        _ => return None,
+    };
+    let mut total = days.unwrap_or(0).checked_mul(86_400)?;
+    for (p, u) in parts.iter().zip(units) {
+        total = total.checked_add(p.checked_mul(*u)?)?;
     }
-    let parts: Vec<&str> = rest.split(':').collect();
-    parts.len() <= 3 && parts.iter().all(|p| digits(p))
+    Some(total)
 }
 
 /// A word quoted for the shell.
@@ -216,7 +254,28 @@ mod tests {
 
     #[test]
     fn slurm_times_are_recognised() {
-        for ok in ["30", "30:00", "01:30:00", "2-00", "2-12:00", "1-01:30:00"] {
+        for ok in [
+            "0",
+            "30",
+            "1440",
+            "100000",
+            "0000000000000000000000001440",
+            "30:00",
+            "90:30",
+            "01:30:00",
+            "100:00:00",
+            "2-00",
+            "2-12:00",
+            "1-01:30:00",
+            "365-0",
+            "UNLIMITED",
+            "unlimited",
+            "Infinite",
+            "INFINITE",
+            // The longest: 2³¹ − 1 s, in minutes (rounded down) and in seconds.
+            "35791394",
+            "0:2147483647",
+        ] {
             assert!(is_slurm_time(ok), "{ok}");
         }
         for bad in [
@@ -225,9 +284,22 @@ mod tests {
             "01:30:00:00",
             "-1",
             "1-",
+            "-30",
             "a-01",
             "1:2:3:4",
+            "1-2:3:4:5",
+            "1-2-3",
+            ":30",
+            "30:",
+            " 30",
+            "30 ",
+            "+30",
             "01;rm",
+            "unlimitedx",
+            "forever",
+            "35791395",
+            "0:2147483648",
+            "99999999999999999999999999",
         ] {
             assert!(!is_slurm_time(bad), "{bad}");
         }
