@@ -10,7 +10,7 @@ use super::CliError;
 use super::scene_args::{parse_accuracy, with_accuracy};
 use wovenform::accuracy::Accuracy;
 use wovenform::study::slurm::{ArrayJob, MAX_CPUS_PER_TASK, MAX_TASKS, is_slurm_time, tasks_for};
-use wovenform::study::sweep::Plan;
+use wovenform::study::sweep::{Plan, holds_this_sweep};
 
 #[derive(Args, Debug)]
 pub struct SlurmArgs {
@@ -105,6 +105,25 @@ fn check(args: &SlurmArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Refuses an `--out` that holds another sweep, or whose shard folders do: a task would stop
+/// on its shard's folder, or the merge at the end on the folder.
+fn refuse_other_sweeps(out: &Path, plan: &Plan) -> Result<(), CliError> {
+    let mut folders = vec![out.to_path_buf()];
+    if let Ok(entries) = std::fs::read_dir(out.join("shards")) {
+        let dirs = entries.filter_map(Result::ok).map(|e| e.path());
+        folders.extend(dirs.filter(|p| p.is_dir()));
+    }
+    for dir in folders {
+        holds_this_sweep(&dir, plan).map_err(|e| {
+            CliError::bad_input(format!(
+                "--out {}: {e}; choose another --out, or remove that folder",
+                out.display()
+            ))
+        })?;
+    }
+    Ok(())
+}
+
 /// Runs `sbatch --parsable ARGS` and returns the job id it prints.
 fn sbatch(args: &[String]) -> Result<String, CliError> {
     let out = Command::new("sbatch")
@@ -155,6 +174,7 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
         );
     }
     let out = absolute(&args.out)?;
+    refuse_other_sweeps(&out, &plan)?;
     let dir = out.join("slurm");
     std::fs::create_dir_all(dir.join("logs")).map_err(|e| {
         CliError::bad_input(format!("{}: cannot create the folder: {e}", dir.display()))
