@@ -9,8 +9,11 @@ use clap::Args;
 use super::CliError;
 use super::scene_args::{parse_accuracy, with_accuracy};
 use wovenform::accuracy::Accuracy;
-use wovenform::study::slurm::{ArrayJob, MAX_CPUS_PER_TASK, MAX_TASKS, is_slurm_time, tasks_for};
-use wovenform::study::sweep::{Plan, holds_this_sweep};
+use wovenform::study::slurm::{
+    ArrayJob, MAX_CPUS_PER_TASK, MAX_TASKS, ScriptError, is_slurm_time, job_name, quoted, tasks_for,
+};
+use wovenform::study::sweep::Plan;
+use wovenform::study::sweep::holds_this_sweep;
 
 #[derive(Args, Debug)]
 pub struct SlurmArgs {
@@ -124,11 +127,12 @@ fn refuse_other_sweeps(out: &Path, plan: &Plan) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Runs `sbatch --parsable ARGS` and returns the job id it prints.
-fn sbatch(args: &[String]) -> Result<String, CliError> {
+/// Runs `sbatch --parsable ARGS SCRIPT` and returns the job id it prints.
+fn sbatch(args: &[String], script: &Path) -> Result<String, CliError> {
     let out = Command::new("sbatch")
         .arg("--parsable")
         .args(args)
+        .arg(script)
         .output()
         .map_err(|e| {
             CliError::failed(format!(
@@ -137,8 +141,9 @@ fn sbatch(args: &[String]) -> Result<String, CliError> {
         })?;
     if !out.status.success() {
         return Err(CliError::failed(format!(
-            "sbatch {}: {}",
+            "sbatch {} {}: {}",
             args.join(" "),
+            script.display(),
             String::from_utf8_lossy(&out.stderr).trim()
         )));
     }
@@ -152,6 +157,36 @@ fn sbatch(args: &[String]) -> Result<String, CliError> {
     Ok(id)
 }
 
+/// The job of `tasks` tasks, from the options.
+fn array_job(args: &SlurmArgs, tasks: usize) -> Result<ArrayJob, CliError> {
+    let stem = args.sweep.file_stem().unwrap_or_default();
+    Ok(ArrayJob {
+        name: job_name(&stem.to_string_lossy()),
+        binary: std::env::current_exe()
+            .map_err(|e| CliError::failed(format!("cannot find this program's path: {e}")))?,
+        sweep: absolute(&args.sweep)?,
+        out: absolute(&args.out)?,
+        sets: args.set.clone(),
+        accuracy: args.accuracy.map(|a| a.name().to_string()),
+        tasks,
+        cpus_per_task: args.cpus_per_task,
+        partition: args.partition.clone(),
+        time: args.time.clone(),
+    })
+}
+
+/// The three scripts, each with its path `OUT/slurm/NAME.sh`; bad input when a name cannot be
+/// written into them.
+fn scripts(job: &ArrayJob) -> Result<[(PathBuf, String); 3], CliError> {
+    let bad = |e: ScriptError| CliError::bad_input(e.to_string());
+    let dir = job.out.join("slurm");
+    Ok([
+        (dir.join("array.sh"), job.array_script().map_err(bad)?),
+        (dir.join("merge.sh"), job.merge_script().map_err(bad)?),
+        (dir.join("submit.sh"), job.submit_script().map_err(bad)?),
+    ])
+}
+
 pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
     check(&args)?;
     let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
@@ -163,6 +198,9 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
         args.tasks,
         args.min_task_s,
     );
+    let job = array_job(&args, tasks)?;
+    let scripts = scripts(&job)?;
+    refuse_other_sweeps(&job.out, &plan)?;
     if tasks < args.tasks {
         eprintln!(
             "--tasks {}: {} designs of about {per_design_s:.1} s each on {} cpus a task make {tasks} \
@@ -173,54 +211,31 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
             args.min_task_s
         );
     }
-    let out = absolute(&args.out)?;
-    refuse_other_sweeps(&out, &plan)?;
-    let dir = out.join("slurm");
-    std::fs::create_dir_all(dir.join("logs")).map_err(|e| {
-        CliError::bad_input(format!("{}: cannot create the folder: {e}", dir.display()))
+    let logs = job.out.join("slurm").join("logs");
+    std::fs::create_dir_all(&logs).map_err(|e| {
+        CliError::bad_input(format!("{}: cannot create the folder: {e}", logs.display()))
     })?;
-    let name = args
-        .sweep
-        .file_stem()
-        .map_or("sweep".into(), |s| s.to_string_lossy().to_string());
-    let job = ArrayJob {
-        name,
-        binary: std::env::current_exe()
-            .map_err(|e| CliError::failed(format!("cannot find this program's path: {e}")))?,
-        sweep: absolute(&args.sweep)?,
-        out: out.clone(),
-        sets: args.set.clone(),
-        accuracy: args.accuracy.map(|a| a.name().to_string()),
-        tasks,
-        cpus_per_task: args.cpus_per_task,
-        partition: args.partition.clone(),
-        time: args.time.clone(),
-    };
-    let (array, merge, submit) = (
-        dir.join("array.sh"),
-        dir.join("merge.sh"),
-        dir.join("submit.sh"),
-    );
-    write(&array, &job.array_script())?;
-    write(&merge, &job.merge_script())?;
-    write(&submit, &job.submit_script())?;
+    for (path, text) in &scripts {
+        write(path, text)?;
+    }
+    let [(array, _), (merge, _), (submit, _)] = &scripts;
     println!(
         "{}: {} designs in {tasks} array task(s) of {} cpus\n{}: the merge into {}, after the array (afterok)",
         array.display(),
         plan.len(),
         args.cpus_per_task,
         merge.display(),
-        out.display()
+        job.out.display()
     );
     if !args.submit {
-        println!("submit both with: bash {}", submit.display());
+        println!(
+            "submit both with: bash {}",
+            quoted(&submit.display().to_string())
+        );
         return Ok(());
     }
-    let array_id = sbatch(&[array.display().to_string()])?;
-    let merge_id = sbatch(&[
-        format!("--dependency=afterok:{array_id}"),
-        merge.display().to_string(),
-    ])?;
+    let array_id = sbatch(&[], array)?;
+    let merge_id = sbatch(&[format!("--dependency=afterok:{array_id}")], merge)?;
     println!("array job {array_id}, merge job {merge_id}");
     Ok(())
 }
