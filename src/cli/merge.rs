@@ -14,7 +14,8 @@ pub struct MergeArgs {
     /// The output folders of the shards (of one sweep).
     #[arg(value_name = "DIR", required = true)]
     pub dirs: Vec<PathBuf>,
-    /// Output folder for the combined results.
+    /// Output folder for the combined results (one that holds an earlier merge of this sweep
+    /// keeps its rows and gets the designs it lacks).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
     /// Maps drawn at once (default: every core).

@@ -9,8 +9,11 @@ use clap::Args;
 use super::CliError;
 use super::scene_args::{parse_accuracy, with_accuracy};
 use wovenform::accuracy::Accuracy;
-use wovenform::study::slurm::{ArrayJob, is_slurm_time, tasks_for};
+use wovenform::study::slurm::{
+    ArrayJob, MAX_CPUS_PER_TASK, MAX_TASKS, ScriptError, is_slurm_time, job_name, quoted, tasks_for,
+};
 use wovenform::study::sweep::Plan;
+use wovenform::study::sweep::holds_this_sweep;
 
 #[derive(Args, Debug)]
 pub struct SlurmArgs {
@@ -24,16 +27,17 @@ pub struct SlurmArgs {
     /// logs to DIR/slurm.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Array tasks at most (fewer when the designs are too quick to fill them).
+    /// Array tasks at most (fewer when the designs are too quick to fill them), 1 to 4000000.
     #[arg(long, value_name = "N")]
     pub tasks: usize,
-    /// CPUs per task (each task runs that many designs at once).
+    /// CPUs per task (each task runs that many designs at once), 1 to 4096.
     #[arg(long, value_name = "C", default_value_t = 1)]
     pub cpus_per_task: usize,
     /// Slurm partition.
     #[arg(long, value_name = "P")]
     pub partition: Option<String>,
-    /// Wall-time limit per task, HH:MM:SS (or D-HH:MM:SS).
+    /// Wall-time limit per task, as sbatch --time takes it: MINUTES, MM:SS, HH:MM:SS, D-HH,
+    /// D-HH:MM, D-HH:MM:SS or UNLIMITED.
     #[arg(long, value_name = "HH:MM:SS")]
     pub time: Option<String>,
     /// Accuracy level of every design: coarse, standard or fine.
@@ -72,14 +76,23 @@ fn check(args: &SlurmArgs) -> Result<(), CliError> {
             args.min_task_s
         )));
     }
-    if args.tasks == 0 || args.cpus_per_task == 0 {
-        return Err(CliError::bad_input(
-            "--tasks and --cpus-per-task: expected at least 1",
-        ));
+    if !(1..=MAX_TASKS).contains(&args.tasks) {
+        return Err(CliError::bad_input(format!(
+            "--tasks {}: expected 1 to {MAX_TASKS} array tasks (Slurm's largest job array)",
+            args.tasks
+        )));
+    }
+    if !(1..=MAX_CPUS_PER_TASK).contains(&args.cpus_per_task) {
+        return Err(CliError::bad_input(format!(
+            "--cpus-per-task {}: expected 1 to {MAX_CPUS_PER_TASK} (a task's CPUs are on one node)",
+            args.cpus_per_task
+        )));
     }
     if let Some(t) = args.time.as_deref().filter(|t| !is_slurm_time(t)) {
         return Err(CliError::bad_input(format!(
-            "--time {t}: expected a Slurm time limit such as 01:30:00 or 2-00:00:00"
+            "--time {t:?}: expected a Slurm time limit: MINUTES, MINUTES:SECONDS, HH:MM:SS, \
+             DAYS-HH, DAYS-HH:MM, DAYS-HH:MM:SS (at most 2^31 - 1 s) or UNLIMITED, \
+             e.g. 90, 01:30:00 or 2-00:00:00"
         )));
     }
     if let Some(p) = args.partition.as_deref().filter(|p| {
@@ -95,11 +108,31 @@ fn check(args: &SlurmArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Runs `sbatch --parsable ARGS` and returns the job id it prints.
-fn sbatch(args: &[String]) -> Result<String, CliError> {
+/// Refuses an `--out` that holds another sweep, or whose shard folders do: a task would stop
+/// on its shard's folder, or the merge at the end on the folder.
+fn refuse_other_sweeps(out: &Path, plan: &Plan) -> Result<(), CliError> {
+    let mut folders = vec![out.to_path_buf()];
+    if let Ok(entries) = std::fs::read_dir(out.join("shards")) {
+        let dirs = entries.filter_map(Result::ok).map(|e| e.path());
+        folders.extend(dirs.filter(|p| p.is_dir()));
+    }
+    for dir in folders {
+        holds_this_sweep(&dir, plan).map_err(|e| {
+            CliError::bad_input(format!(
+                "--out {}: {e}; choose another --out, or remove that folder",
+                out.display()
+            ))
+        })?;
+    }
+    Ok(())
+}
+
+/// Runs `sbatch --parsable ARGS SCRIPT` and returns the job id it prints.
+fn sbatch(args: &[String], script: &Path) -> Result<String, CliError> {
     let out = Command::new("sbatch")
         .arg("--parsable")
         .args(args)
+        .arg(script)
         .output()
         .map_err(|e| {
             CliError::failed(format!(
@@ -108,8 +141,9 @@ fn sbatch(args: &[String]) -> Result<String, CliError> {
         })?;
     if !out.status.success() {
         return Err(CliError::failed(format!(
-            "sbatch {}: {}",
+            "sbatch {} {}: {}",
             args.join(" "),
+            script.display(),
             String::from_utf8_lossy(&out.stderr).trim()
         )));
     }
@@ -123,6 +157,36 @@ fn sbatch(args: &[String]) -> Result<String, CliError> {
     Ok(id)
 }
 
+/// The job of `tasks` tasks, from the options.
+fn array_job(args: &SlurmArgs, tasks: usize) -> Result<ArrayJob, CliError> {
+    let stem = args.sweep.file_stem().unwrap_or_default();
+    Ok(ArrayJob {
+        name: job_name(&stem.to_string_lossy()),
+        binary: std::env::current_exe()
+            .map_err(|e| CliError::failed(format!("cannot find this program's path: {e}")))?,
+        sweep: absolute(&args.sweep)?,
+        out: absolute(&args.out)?,
+        sets: args.set.clone(),
+        accuracy: args.accuracy.map(|a| a.name().to_string()),
+        tasks,
+        cpus_per_task: args.cpus_per_task,
+        partition: args.partition.clone(),
+        time: args.time.clone(),
+    })
+}
+
+/// The three scripts, each with its path `OUT/slurm/NAME.sh`; bad input when a name cannot be
+/// written into them.
+fn scripts(job: &ArrayJob) -> Result<[(PathBuf, String); 3], CliError> {
+    let bad = |e: ScriptError| CliError::bad_input(e.to_string());
+    let dir = job.out.join("slurm");
+    Ok([
+        (dir.join("array.sh"), job.array_script().map_err(bad)?),
+        (dir.join("merge.sh"), job.merge_script().map_err(bad)?),
+        (dir.join("submit.sh"), job.submit_script().map_err(bad)?),
+    ])
+}
+
 pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
     check(&args)?;
     let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
@@ -134,6 +198,9 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
         args.tasks,
         args.min_task_s,
     );
+    let job = array_job(&args, tasks)?;
+    let scripts = scripts(&job)?;
+    refuse_other_sweeps(&job.out, &plan)?;
     if tasks < args.tasks {
         eprintln!(
             "--tasks {}: {} designs of about {per_design_s:.1} s each on {} cpus a task make {tasks} \
@@ -144,53 +211,31 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
             args.min_task_s
         );
     }
-    let out = absolute(&args.out)?;
-    let dir = out.join("slurm");
-    std::fs::create_dir_all(dir.join("logs")).map_err(|e| {
-        CliError::bad_input(format!("{}: cannot create the folder: {e}", dir.display()))
+    let logs = job.out.join("slurm").join("logs");
+    std::fs::create_dir_all(&logs).map_err(|e| {
+        CliError::bad_input(format!("{}: cannot create the folder: {e}", logs.display()))
     })?;
-    let name = args
-        .sweep
-        .file_stem()
-        .map_or("sweep".into(), |s| s.to_string_lossy().to_string());
-    let job = ArrayJob {
-        name,
-        binary: std::env::current_exe()
-            .map_err(|e| CliError::failed(format!("cannot find this program's path: {e}")))?,
-        sweep: absolute(&args.sweep)?,
-        out: out.clone(),
-        sets: args.set.clone(),
-        accuracy: args.accuracy.map(|a| a.name().to_string()),
-        tasks,
-        cpus_per_task: args.cpus_per_task,
-        partition: args.partition.clone(),
-        time: args.time.clone(),
-    };
-    let (array, merge, submit) = (
-        dir.join("array.sh"),
-        dir.join("merge.sh"),
-        dir.join("submit.sh"),
-    );
-    write(&array, &job.array_script())?;
-    write(&merge, &job.merge_script())?;
-    write(&submit, &job.submit_script())?;
+    for (path, text) in &scripts {
+        write(path, text)?;
+    }
+    let [(array, _), (merge, _), (submit, _)] = &scripts;
     println!(
         "{}: {} designs in {tasks} array task(s) of {} cpus\n{}: the merge into {}, after the array (afterok)",
         array.display(),
         plan.len(),
         args.cpus_per_task,
         merge.display(),
-        out.display()
+        job.out.display()
     );
     if !args.submit {
-        println!("submit both with: bash {}", submit.display());
+        println!(
+            "submit both with: bash {}",
+            quoted(&submit.display().to_string())
+        );
         return Ok(());
     }
-    let array_id = sbatch(&[array.display().to_string()])?;
-    let merge_id = sbatch(&[
-        format!("--dependency=afterok:{array_id}"),
-        merge.display().to_string(),
-    ])?;
+    let array_id = sbatch(&[], array)?;
+    let merge_id = sbatch(&[format!("--dependency=afterok:{array_id}")], merge)?;
     println!("array job {array_id}, merge job {merge_id}");
     Ok(())
 }

@@ -14,7 +14,10 @@ use super::run::Outcome;
 use super::store::{self, ReadReport};
 
 /// Combines sweep folders (shards) of one sweep into `out`: the rows (the first of each
-/// design), their fields and the lock, as one sweep folder.
+/// design), their fields and the lock, as one sweep folder. An `out` that already holds this
+/// sweep (an earlier merge, or one stopped half-way) keeps its rows and gets those of the
+/// designs it lacks: merging again is safe and finishes what is missing. An `out` of another
+/// sweep is refused.
 /// Returns the sweep's plan (read from the folders' `sweep.lock`) with the outcome.
 pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepError> {
     let start = Instant::now();
@@ -23,22 +26,17 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepErr
             "merge: expected at least one sweep folder".into(),
         ));
     }
-    // Never overwrite rows: an existing results set in `out` must be one of the inputs.
-    if out.join("results.csv").exists() && !inputs.iter().any(|d| same_folder(d, out)) {
-        return Err(SweepError::BadInput(format!(
-            "merge: {} already holds a results.csv; list it among the folders to merge into it, or choose another --out",
-            out.display()
-        )));
-    }
+    let shards = gather(inputs)?;
+    // Held before `out` is read: two merges into one folder never interleave.
+    let (lock, _) = FolderLock::take(out)?;
     let Gathered {
         plan,
         mut rows,
         sources,
         mut report,
-    } = gather(inputs)?;
+    } = with_earlier_merge(shards, inputs, out)?;
     report.kept = rows.len();
     rows.sort_by_key(|r| r.index);
-    let (lock, _) = FolderLock::take(out)?;
     store::prepare_dir(out, &plan, None).map_err(SweepError::Folder)?;
     for row in rows.iter().filter(|r| r.map.is_some()) {
         let from = StoredField::path(&sources[&row.design], &row.design);
@@ -67,6 +65,53 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepErr
         lock: Some(lock),
     };
     Ok((plan, outcome))
+}
+
+/// The rows already in `out` when it holds this sweep and is not among the inputs (an
+/// earlier merge), then the shards' rows of the designs it lacks. Refused: an `out` of
+/// another sweep, or with rows that cannot be told to be this sweep's (nothing is
+/// overwritten).
+fn with_earlier_merge(
+    shards: Gathered,
+    inputs: &[PathBuf],
+    out: &Path,
+) -> Result<Gathered, SweepError> {
+    if inputs.iter().any(|d| same_folder(d, out)) {
+        return Ok(shards);
+    }
+    let holds = store::holds_this_sweep(out, &shards.plan).map_err(|e| {
+        SweepError::BadInput(format!(
+            "merge: --out {}: {e}; choose another --out",
+            out.display()
+        ))
+    })?;
+    if !holds {
+        return Ok(shards);
+    }
+    let (earlier, r) = store::read_rows(out, &shards.plan).map_err(store::rows_error)?;
+    let mut report = shards.report;
+    report.truncated += r.truncated;
+    report.foreign += r.foreign;
+    report.no_field += r.no_field;
+    report.duplicates += r.duplicates;
+    report.edited += r.edited;
+    let mut sources: HashMap<String, PathBuf> = earlier
+        .iter()
+        .map(|row| (row.design.clone(), out.to_path_buf()))
+        .collect();
+    let mut rows = earlier;
+    for row in shards.rows {
+        if !sources.contains_key(&row.design) {
+            sources.insert(row.design.clone(), shards.sources[&row.design].clone());
+            rows.push(row);
+        }
+    }
+    Ok(Gathered {
+        plan: shards.plan,
+        rows,
+        sources,
+        report,
+    })
 }
 
 /// Two paths name the same file or folder.

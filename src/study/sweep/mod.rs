@@ -52,7 +52,7 @@ pub use plan::{Axis, Plan, SHORT_NAMES};
 pub use rows::{Counts, FIGURE_COLUMNS, Row, column_names, counts, csv_header};
 pub use run::{Options, Outcome, Progress, pool, run};
 pub use shard::Shard;
-pub use store::{ReadReport, StoreError, read_lock, write_atomic};
+pub use store::{ReadReport, StoreError, holds_this_sweep, read_lock, write_atomic};
 pub use values::{as_number, fnv_hex, show_value, unit_of};
 
 /// Why a sweep did not go through: bad input, found before any work (exit 2), or a failure

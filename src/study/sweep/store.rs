@@ -346,6 +346,45 @@ fn agrees_with_field(dir: &Path, row: &Row) -> Option<bool> {
     Some(shear_agrees && Verdict::of_sentence(&field.verdict) == row.verdict)
 }
 
+/// Whether `dir` can take `plan`'s sweep: `Ok(false)` when it holds no sweep, `Ok(true)` when
+/// it holds this one (the same base scene and grid in its `sweep.lock`). Refused, with why:
+/// a folder of another sweep, or rows or a lock that cannot be told to be this sweep's.
+pub fn holds_this_sweep(dir: &Path, plan: &Plan) -> Result<bool, String> {
+    let rows = dir.join("results.csv");
+    let lock = match read_lock(dir) {
+        Ok(lock) => lock,
+        Err(StoreError::NoLock { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
+            if !rows.exists() {
+                return Ok(false);
+            }
+            return Err(format!(
+                "{} holds a results.csv without a sweep.lock: cannot tell which sweep it belongs to",
+                dir.display()
+            ));
+        }
+        Err(e) => {
+            return Err(format!(
+                "{e}: cannot tell which sweep {} belongs to",
+                dir.display()
+            ));
+        }
+    };
+    if lock.base_hash == plan.base_hash && lock.sweep_hash == plan.sweep_hash {
+        return Ok(true);
+    }
+    let what = if lock.base_hash != plan.base_hash {
+        "base scene"
+    } else {
+        "grid"
+    };
+    Err(format!(
+        "{} holds another sweep ({}, whose {what} differs from {}'s)",
+        dir.display(),
+        lock.plan.sweep_file,
+        plan.sweep_file
+    ))
+}
+
 /// The rows of an earlier run of this sweep in `dir` (with `--resume`); refuses a folder that
 /// holds rows without `--resume`, or rows of another base scene.
 pub fn earlier_rows(
