@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use crate::core::drawing::{DrawingResult, Tooling};
 use crate::core::law::CellParams;
+use crate::files::write_atomic;
 use crate::report::converge;
 use crate::report::error::DrawError;
 use crate::report::figure6::{figure6_chart, figure6_csv, figure6_table};
@@ -19,7 +20,6 @@ use crate::report::sweep::{design_label, field_map, results_json, shared_scale_m
 use crate::report::vtu::vtu_string;
 use crate::study::converge::Ladder;
 use crate::study::fit::{FitResult, Sample};
-use crate::files::write_atomic;
 use crate::study::sweep::{Plan, Row, Shard, StoreError, StoredField};
 use crate::summary::RunSummary;
 
@@ -154,7 +154,7 @@ pub fn write_run(
             .files
             .insert(kind.to_string(), path.display().to_string());
     }
-    let text = serde_json::to_string_pretty(&*summary).expect("the summary is plain data");
+    let text = serde_json::to_string_pretty(&summary.to_value()).expect("plain data");
     write_atomic(&json, (text + "\n").as_bytes()).map_err(io(&json, "write the summary"))?;
     Ok(written)
 }

@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use serde::Serialize;
 
-use super::{CliError, outputs};
 use super::progress::stderr_bar;
 use super::scene_args::SceneArgs;
+use super::{CliError, outputs};
 use wovenform::core::bias::{BiasProblem, BiasResult, kinematic_limit};
 use wovenform::report::bias::{Departure, departure};
 use wovenform::scene::specimen;

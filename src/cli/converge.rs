@@ -5,9 +5,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{CliError, outputs};
 use super::progress::stderr_bar;
 use super::scene_args::SceneArgs;
+use super::{CliError, outputs};
 use wovenform::publish;
 use wovenform::report::converge as report;
 use wovenform::study::converge as study;

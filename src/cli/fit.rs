@@ -4,9 +4,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::scene_args::SceneArgs;
 use super::{CliError, outputs};
 use wovenform::files::Input;
-use super::scene_args::SceneArgs;
 use wovenform::publish;
 use wovenform::study::fit::{self as fitting, FitOptions};
 

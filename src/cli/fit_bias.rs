@@ -4,10 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{CliError, outputs};
-use wovenform::files::{Input, Output};
 use super::progress::stderr_bar;
+use super::{CliError, outputs};
 use wovenform::core::bias::{BiasProblem, BiasResult, ideal_force, kinematic_limit};
+use wovenform::files::{Input, Output};
 use wovenform::scene::{Scene, specimen};
 use wovenform::study::fit::shear::{
     BiasPoint, BiasSpecimen, ShearFit, fit_points, fit_shear_law, read_bias_curve,
@@ -56,7 +56,12 @@ pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
         from_mm: args.from_mm,
     };
     // The specimen's sizes and the options first: the data's stroke is checked below.
-    let to_bad = |e: wovenform::scene::SceneError| bad(e.to_string().replace("--length", "--bias length").replace("--width", "--bias width"));
+    let to_bad = |e: wovenform::scene::SceneError| {
+        bad(e
+            .to_string()
+            .replace("--length", "--bias length")
+            .replace("--width", "--bias width"))
+    };
     specimen::check_sizes([length, width, 1.0], args.element_size, FE_POINTS).map_err(to_bad)?;
     specimen::check_fit_options(specimen.max_shear_deg, specimen.from_mm, args.refine)
         .map_err(to_bad)?;

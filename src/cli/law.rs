@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use super::{CliError, outputs};
 use super::scene_args::SceneArgs;
+use super::{CliError, outputs};
 use wovenform::core::law::CellLaw;
 use wovenform::publish::write_figure6;
 use wovenform::study::fit::STRAIN_RANGE;

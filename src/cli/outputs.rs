@@ -24,7 +24,10 @@ pub fn scene_inputs(file: Option<&Path>, scene: &Scene) -> Vec<Input> {
         .into_iter()
         .collect();
     if scene.tools.kind == ToolKind::Mesh {
-        inputs.push(Input::new(&scene.tools.punch, "the punch's STL, tools.punch,"));
+        inputs.push(Input::new(
+            &scene.tools.punch,
+            "the punch's STL, tools.punch,",
+        ));
         inputs.push(Input::new(&scene.tools.die, "the die's STL, tools.die,"));
     }
     inputs

@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{CliError, outputs};
 use super::progress::stroke_bar;
 use super::scene_args::{SceneArgs, parse_accuracy, with_accuracy};
+use super::{CliError, outputs};
 use wovenform::accuracy::Accuracy;
 use wovenform::core::drawing::{self, DrawingFailure};
 use wovenform::publish::write_run;

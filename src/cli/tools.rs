@@ -5,13 +5,13 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::outputs::{self, STL_HEAD};
 use super::CliError;
-use wovenform::files::Output;
+use super::outputs::{self, STL_HEAD};
 use super::scene_args::SceneArgs;
 use wovenform::core::drawing::Tooling;
 use wovenform::core::tools::capped::{grid_points, tool_surfaces};
 use wovenform::core::tools::surface::TriSurface;
+use wovenform::files::Output;
 use wovenform::machine::memory_budget_bytes;
 
 /// Memory per grid point while tessellating, bytes (its field value, its cell's vertex index,

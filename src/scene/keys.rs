@@ -29,7 +29,9 @@ pub fn unset_key_shape(key: &str) -> Option<toml::Value> {
     full.fabric.shear_moment = Some([0.0; 3]);
     let table = toml::Table::try_from(&full).ok()?;
     let empty = toml::Table::try_from(Scene::default()).ok()?;
-    lookup(&empty, key).is_none().then(|| lookup(&table, key).cloned())?
+    lookup(&empty, key)
+        .is_none()
+        .then(|| lookup(&table, key).cloned())?
 }
 
 /// Whether `key` is written as a dotted key: parts of ASCII letters, digits, `_` and `-`,

@@ -53,6 +53,17 @@ pub fn check_sizes(
             "expected 2 to 1000".into(),
         ));
     }
+    if w < 2.0 * element_size {
+        return Err(bad(
+            &format!("--width {w}"),
+            format!(
+                "a specimen {w} mm wide is less than two {element_size} mm elements across: \
+                 expected a width of at least {} mm (or a smaller --element-size; are its sizes \
+                 in mm?)",
+                2.0 * element_size
+            ),
+        ));
+    }
     let elements = (h / element_size).ceil() * (w / element_size).ceil();
     if elements > MAX_ELEMENTS {
         return Err(bad(
@@ -95,15 +106,22 @@ pub fn bias_problem(
         points,
         solver: p.solver,
     };
-    problem
-        .check()
-        .map_err(|e| bad(&format!("--length {h} --width {w} --stroke {d}"), e.to_string()))?;
+    problem.check().map_err(|e| {
+        bad(
+            &format!("--length {h} --width {w} --stroke {d}"),
+            e.to_string(),
+        )
+    })?;
     Ok(problem)
 }
 
 /// The options of `fit --bias` besides the specimen: the fitted range of ideal central shear
 /// (degrees), the first displacement fitted (mm) and the refining passes.
-pub fn check_fit_options(max_shear_deg: f64, from_mm: f64, refine: usize) -> Result<(), SceneError> {
+pub fn check_fit_options(
+    max_shear_deg: f64,
+    from_mm: f64,
+    refine: usize,
+) -> Result<(), SceneError> {
     if !(max_shear_deg.is_finite() && max_shear_deg > 0.0 && max_shear_deg < 90.0) {
         return Err(bad(
             &format!("--max-shear {max_shear_deg}"),
@@ -119,7 +137,9 @@ pub fn check_fit_options(max_shear_deg: f64, from_mm: f64, refine: usize) -> Res
     if refine > MAX_REFINE {
         return Err(bad(
             &format!("--refine {refine}"),
-            format!("expected at most {MAX_REFINE} refining passes (each is a whole finite-element test)"),
+            format!(
+                "expected at most {MAX_REFINE} refining passes (each is a whole finite-element test)"
+            ),
         ));
     }
     Ok(())

@@ -163,8 +163,7 @@ impl Parameters {
     /// The parameters of a sweep document: its axes, and the scene's other sweepable keys at
     /// their base values.
     pub fn new(source: Source) -> Result<Parameters, String> {
-        let plan =
-            source.plan(&source.doc, &[])?;
+        let plan = source.plan(&source.doc, &[])?;
         let locking_angle_deg = plan.base_scene.fabric.locking_angle_deg;
         let break_tension_n = plan.base_scene.fabric.break_tension_n;
         let h = plan.base_scene.mesh.element_size;

@@ -17,7 +17,8 @@ pub(super) fn collect(
     let lambda = stats.lambda;
     let x = model.positions();
     let sym = if quarter { 4.0 } else { 1.0 };
-    let punch_force_n = -sym * contact.tool_force(0, lambda, &x)[2];
+    // + 0.0: no force at all is 0 N, not -0 N.
+    let punch_force_n = -sym * contact.tool_force(0, lambda, &x)[2] + 0.0;
     let force_history: Vec<(f64, f64)> = contact
         .punch_history
         .iter()

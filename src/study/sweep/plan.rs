@@ -298,7 +298,10 @@ fn axis_of(name: &str, value: &toml::Value, scene: &toml::Table) -> Result<Axis,
         ));
     }
     // A key the base leaves unset (the shear law) is swept over the shape it takes.
-    let unset = lookup(scene, &key).is_none().then(|| unset_key_shape(&key)).flatten();
+    let unset = lookup(scene, &key)
+        .is_none()
+        .then(|| unset_key_shape(&key))
+        .flatten();
     let base_value = match lookup(scene, &key).or(unset.as_ref()) {
         Some(toml::Value::Table(_)) | None => {
             return Err(format!(

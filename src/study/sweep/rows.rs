@@ -89,7 +89,8 @@ impl Serialize for Row {
 
 pub(super) fn round_to(v: f64, decimals: i32) -> f64 {
     let s = 10f64.powi(decimals);
-    (v * s).round() / s
+    // + 0.0: a rounded -0.0 reads 0, as people write it.
+    (v * s).round() / s + 0.0
 }
 
 /// One CSV record (RFC 4180 quoting where needed) with its newline; line breaks inside a field
