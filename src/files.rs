@@ -11,6 +11,59 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
+/// The largest text file read as an input (a scene, a sweep, a measured curve), bytes.
+pub const MAX_TEXT_BYTES: u64 = 64_000_000;
+
+/// Reads a text input: a regular file (a named pipe, a device, a socket or a folder is refused
+/// before it is opened, so nothing blocks), at most `max_bytes` long (enforced while reading,
+/// whatever size the file reports), in UTF-8.
+pub fn read_text(path: &Path, max_bytes: u64) -> std::io::Result<String> {
+    use std::io::Read as _;
+    let bytes = read_regular(path, max_bytes)?;
+    let mut text = String::new();
+    bytes.as_slice().read_to_string(&mut text)?;
+    Ok(text)
+}
+
+/// The bytes of a regular file of at most `max_bytes` (see [`read_text`]).
+pub fn read_regular(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
+    use std::io::Read as _;
+    let kind = std::fs::metadata(path)?.file_type();
+    if !kind.is_file() {
+        return Err(std::io::Error::other(format!(
+            "it is {}, not a regular file: expected a file",
+            kind_name(&kind)
+        )));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(max_bytes + 1)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(std::io::Error::other(format!(
+            "it holds more than {max_bytes} bytes, the limit for this input: expected a smaller file"
+        )));
+    }
+    Ok(bytes)
+}
+
+fn kind_name(kind: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return "a named pipe (FIFO)";
+        }
+        if kind.is_char_device() || kind.is_block_device() {
+            return "a device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    if kind.is_dir() { "a folder" } else { "not a regular file" }
+}
+
 /// Writes `bytes` to `path` whole: through a temporary file in the same folder, flushed to
 /// disk, then renamed over `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
@@ -164,6 +217,19 @@ fn begins_with(path: &Path, head: &[u8]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn special_files_are_refused_and_long_ones_cut_while_reading() {
+        let e = read_text(Path::new("/dev/zero"), 1000).unwrap_err();
+        assert!(e.to_string().contains("a device"), "{e}");
+        let dir = tempfile::tempdir().unwrap();
+        let e = read_text(dir.path(), 1000).unwrap_err();
+        assert!(e.to_string().contains("a folder"), "{e}");
+        let path = dir.path().join("a.toml");
+        std::fs::write(&path, "x".repeat(1001)).unwrap();
+        assert!(read_text(&path, 1000).unwrap_err().to_string().contains("1000 bytes"));
+        assert_eq!(read_text(&path, 1001).unwrap().len(), 1001);
+    }
 
     #[test]
     fn a_failed_write_leaves_the_old_file_and_no_temporary_one() {

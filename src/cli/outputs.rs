@@ -37,6 +37,12 @@ pub fn scene_inputs(file: Option<&Path>, scene: &Scene) -> Vec<Input> {
 /// `dir`) that would overwrite an input or a user's file.
 pub fn prepare(dir: &Path, outputs: &[Output], inputs: &[Input]) -> Result<(), CliError> {
     check_outputs(outputs, inputs).map_err(|e| CliError::bad_input(e.to_string()))?;
+    if dir.exists() && !dir.is_dir() {
+        return Err(CliError::bad_input(format!(
+            "{}: not a folder: expected an output folder (--out) to write into",
+            dir.display()
+        )));
+    }
     std::fs::create_dir_all(dir).map_err(|e| {
         CliError::bad_input(format!(
             "{}: cannot create the output folder: {e}",

@@ -58,7 +58,7 @@ fn absolute(p: &Path) -> Result<PathBuf, CliError> {
 }
 
 fn write(path: &Path, text: &str) -> Result<(), CliError> {
-    std::fs::write(path, text)
+    wovenform::files::write_atomic(path, text.as_bytes())
         .map_err(|e| CliError::bad_input(format!("{}: cannot write: {e}", path.display())))?;
     #[cfg(unix)]
     {

@@ -114,7 +114,7 @@ impl Scene {
             None => Scene::from_toml_str("", DEFAULT_ORIGIN, overrides),
             Some(path) => {
                 let origin = path.display().to_string();
-                let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+                let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|e| SceneError {
                     origin: origin.clone(),
                     key: None,
                     detail: format!("cannot read the scene file: {e}"),

@@ -78,7 +78,7 @@ pub fn check_sizes(
     if h <= 1.5 * w {
         return Err(bad(
             &format!("--length {h} --width {w}"),
-            "a bias specimen needs a length more than 1.5 times its width (usually twice), so \
+            "a bias specimen needs a length more than 1.5 times the width (usually twice), so \
              that it has a central zone"
                 .into(),
         ));

@@ -41,7 +41,7 @@ pub fn colour_wanted() -> bool {
 
 /// The sweep document of a sweep file.
 pub fn source_of_file(path: &std::path::Path) -> Result<Source, String> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES)
         .map_err(|e| format!("{}: cannot read the sweep file: {e}", path.display()))?;
     let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
         format!(

@@ -78,7 +78,7 @@ pub enum Problem {
 /// Reads a data CSV; errors name the file, the line and the column.
 pub fn read_samples(path: &Path) -> Result<Vec<Sample>, SamplesError> {
     let origin = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SamplesError {
+    let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|e| SamplesError {
         origin: origin.clone(),
         problem: Problem::Unreadable(e),
     })?;

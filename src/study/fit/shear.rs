@@ -48,7 +48,7 @@ pub enum BiasFitError {
 /// Reads `displacement_mm,force_n` (a UTF-8 BOM allowed; other columns ignored).
 pub fn read_bias_curve(path: &Path) -> Result<Vec<BiasPoint>, BiasFitError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| BiasFitError::Unreadable {
+    let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|source| BiasFitError::Unreadable {
         path: name.clone(),
         source,
     })?;

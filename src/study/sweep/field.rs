@@ -2,7 +2,6 @@
 //! map and its tile on the report sheet are drawn from at the end, on the sweep's common
 //! scale (and after a resume or a merge).
 
-use std::fs;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -62,7 +61,8 @@ impl StoredField {
             path: path.clone(),
             source,
         };
-        let text = fs::read_to_string(&path).map_err(|e| field(e.into()))?;
+        // A design's fields: a few values per element of a mesh that fits in memory.
+        let text = crate::files::read_text(&path, 4_000_000_000).map_err(|e| field(e.into()))?;
         serde_json::from_str(&text).map_err(|e| field(e.into()))
     }
 

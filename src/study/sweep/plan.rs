@@ -1,7 +1,6 @@
 //! The sweep file read into a [`Plan`]: the base scene, the swept parameters (lists, ranges or
 //! one value), their order and their hashes.
 
-use std::fs;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -94,7 +93,7 @@ impl Plan {
     pub fn load(path: &Path, sets: &[String]) -> Result<Plan, SweepError> {
         let file = path.display().to_string();
         let bad = |detail: String| SweepError::BadInput(format!("{file}: {detail}"));
-        let text = fs::read_to_string(path)
+        let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES)
             .map_err(|e| bad(format!("cannot read the sweep file: {e}")))?;
         let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
             bad(format!("not valid TOML: {}", e.to_string().trim_end()))
@@ -209,7 +208,7 @@ impl BaseText {
             if let Some((_, text)) = carried {
                 return Ok(text.to_string());
             }
-            fs::read_to_string(b).map_err(|e| {
+            crate::files::read_text(b, crate::files::MAX_TEXT_BYTES).map_err(|e| {
                 bad(format!(
                     "base = {}: cannot read the scene file: {e}",
                     b.display()

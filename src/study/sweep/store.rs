@@ -82,7 +82,7 @@ pub struct Lock {
 /// Reads `dir/sweep.lock`.
 pub fn read_lock(dir: &Path) -> Result<Lock, StoreError> {
     let path = dir.join("sweep.lock");
-    let text = fs::read_to_string(&path).map_err(|source| StoreError::NoLock {
+    let text = crate::files::read_text(&path, crate::files::MAX_TEXT_BYTES).map_err(|source| StoreError::NoLock {
         path: path.clone(),
         source,
     })?;
@@ -188,7 +188,8 @@ impl ReadReport {
 /// Reads the rows of `dir/results.csv` that belong to the plan's grid (first of each design).
 pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), StoreError> {
     let path = dir.join("results.csv");
-    let mut text = match fs::read(&path) {
+    // A sweep's rows are small (a few hundred bytes a design): 4 GB is millions of designs.
+    let mut text = match crate::files::read_regular(&path, 4_000_000_000) {
         Ok(b) => String::from_utf8_lossy(&b).into_owned(),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Default::default()),
         Err(e) => return Err(StoreError::io(&path, "read")(e)),
