@@ -16,9 +16,11 @@
 pub mod capped;
 pub mod double_dome;
 pub mod flange;
+pub mod intersect;
 pub mod mesh_tool;
 pub mod nearest;
 pub mod sampled;
+pub mod shells;
 pub mod surface;
 pub mod tessellate;
 
