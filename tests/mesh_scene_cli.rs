@@ -147,9 +147,12 @@ fn misplaced_tools_are_refused_before_solving() {
     let s = scene(d, "punch.stl", "moved.stl", 120.0);
     write_binary(&d.join("moved.stl"), &die.translated([0.0, 0.0, -1.0])).unwrap();
     refused(&run(&s, &[]), &["moved.stl", "highest point is at z = -1"]);
-    // A die with no flat face: the punch turned upside down (its tip at z = 0).
+    // A die with no flat face: the punch turned upside down (its tip at z = 0), widened to
+    // reach under the whole blank.
     let mut dome = punch.clone();
-    dome.vertices.iter_mut().for_each(|v| v[2] = -v[2]);
+    dome.vertices
+        .iter_mut()
+        .for_each(|v| *v = [3.0 * v[0], 3.0 * v[1], -v[2]]);
     dome.triangles.iter_mut().for_each(|t| t.swap(1, 2));
     write_binary(&d.join("moved.stl"), &dome).unwrap();
     refused(&run(&s, &[]), &["moved.stl", "no face in z = 0"]);

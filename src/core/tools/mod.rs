@@ -20,6 +20,7 @@ pub mod intersect;
 pub mod mesh_tool;
 pub mod nearest;
 pub mod sampled;
+pub mod scale;
 pub mod shells;
 pub mod surface;
 pub mod tessellate;

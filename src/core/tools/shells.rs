@@ -149,7 +149,7 @@ mod tests {
     fn shells_bound_the_material_once() {
         let outer = cuboid([0.0; 3], [10.0; 3], true);
         // One shell; two apart; a solid with a cavity; an island in the cavity.
-        assert_eq!(of(&[outer.clone()]), None);
+        assert_eq!(of(std::slice::from_ref(&outer)), None);
         assert_eq!(
             of(&[outer.clone(), cuboid([20.0; 3], [30.0; 3], true)]),
             None
