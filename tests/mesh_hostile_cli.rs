@@ -262,3 +262,45 @@ fn tool_paths_that_are_not_files_are_refused_without_waiting() {
         refused(d, &s, &["tools.lattice", "0.05 to 5 mm"]);
     }
 }
+
+#[test]
+fn resuming_a_sweep_whose_tool_file_was_written_anew_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let (punch, _) = tools("hemisphere.toml", &[], "2", d);
+    scene(d, "punch.stl", "die.stl", 120.0, "");
+    let sweep = d.join("grid.toml");
+    let grid = "base = \"scene.toml\"\n\n[scene]\nprocess.stroke = 3.0\n\n[sweep]\nfriction = [0.1, 0.2]\n";
+    std::fs::write(&sweep, grid).unwrap();
+    let run = |extra: &[&str]| {
+        let mut cmd = bin();
+        cmd.args(["sweep", "grid.toml", "--out", "out"]).args(extra);
+        within(cmd, d, Duration::from_secs(300)).0
+    };
+    let o = run(&[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // Resuming with the same files runs nothing.
+    let o = run(&["--resume"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The punch written anew, 10 % narrower: same path, other contents.
+    let mut narrower = punch.clone();
+    narrower
+        .vertices
+        .iter_mut()
+        .for_each(|v| *v = [0.9 * v[0], 0.9 * v[1], v[2]]);
+    write_binary(&d.join("punch.stl"), &narrower).unwrap();
+    let o = run(&["--resume"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    for w in [
+        "another base scene",
+        "tools.punch",
+        "punch.stl",
+        "written anew",
+    ] {
+        assert!(err.contains(w), "expected {w:?} in: {err}");
+    }
+    // The rows are those of the first punch only: two designs, once each.
+    let csv = std::fs::read_to_string(d.join("out/results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 3, "{csv}");
+}
