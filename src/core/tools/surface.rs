@@ -81,6 +81,18 @@ pub enum SurfaceError {
          Reverse Sense, Blender's Flip Normals)"
     )]
     InsideOut { volume_mm3: f64 },
+    #[error(
+        "{dropped} of its {total} triangles lost a corner when corners within {quantum_mm:.3e} \
+         mm of each other were joined (a billionth of its largest coordinate, {largest_mm:.3e} \
+         mm): is a coordinate far from the others (a stray vertex), or are its triangles \
+         smaller than that?"
+    )]
+    Collapsed {
+        dropped: usize,
+        total: usize,
+        quantum_mm: f64,
+        largest_mm: f64,
+    },
     #[error("it encloses no volume ({volume_mm3:.3e} mm³): a flat or degenerate surface")]
     NoVolume { volume_mm3: f64 },
     #[error(
@@ -121,7 +133,9 @@ pub struct TriSurface {
 impl TriSurface {
     /// Welds the corners of a triangle soup that lie within `1e-9` of the soup's size of each
     /// other (exactly equal corners, as STL writers repeat them, always weld) and drops the
-    /// triangles that lose a corner to the weld (zero area). Non-finite coordinates are refused.
+    /// triangles that lose a corner to the weld (zero area). Non-finite coordinates are refused,
+    /// and so is a soup that loses most of its triangles to the weld (a stray coordinate far
+    /// from the others makes the weld's quantum larger than the triangles).
     pub fn from_soup(soup: &[[[f64; 3]; 3]]) -> Result<TriSurface, SurfaceError> {
         if soup.is_empty() {
             return Err(SurfaceError::Empty);
@@ -154,6 +168,16 @@ impl TriSurface {
             if ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2] {
                 triangles.push(ids);
             }
+        }
+        // A few slivers with repeated corners go; most of the triangles going is no weld.
+        let dropped = soup.len() - triangles.len();
+        if dropped > soup.len() / 2 {
+            return Err(SurfaceError::Collapsed {
+                dropped,
+                total: soup.len(),
+                quantum_mm: quantum,
+                largest_mm: size,
+            });
         }
         Ok(TriSurface {
             vertices,
@@ -327,6 +351,21 @@ mod tests {
         mixed[0] = [mixed[0][0], mixed[0][2], mixed[0][1]];
         let e = TriSurface::from_soup(&mixed).unwrap().check().unwrap_err();
         assert!(matches!(e, SurfaceError::Inconsistent { .. }), "{e}");
+        // One corner a light-year away: the weld's quantum swallows the cube.
+        let mut stray = cube();
+        stray[0][0] = [1e30, 0.0, 0.0];
+        let e = TriSurface::from_soup(&stray).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                SurfaceError::Collapsed {
+                    dropped: 12,
+                    total: 12,
+                    ..
+                }
+            ),
+            "{e}"
+        );
         let mut nan = cube();
         nan[5][1][2] = f64::NAN;
         assert_eq!(
