@@ -184,7 +184,12 @@ fn a_punch_in_the_die_is_refused_naming_both() {
     let s = scene(d, "wide/punch.stl", "narrow/die.stl", 170.0);
     refused(
         &run(&s, &[]),
-        &["wide/punch.stl", "narrow/die.stl", "starts inside the die"],
+        &[
+            "wide/punch.stl",
+            "narrow/die.stl",
+            "starts inside the die",
+            "the punch is 60.0 × 60.0 mm in plan; the die's opening reaches ±",
+        ],
     );
     // A 30 mm hemisphere into the die of a 20 mm one: it runs into the die on its way down.
     let big = d.join("big");

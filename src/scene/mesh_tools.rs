@@ -225,12 +225,22 @@ impl Scene {
         });
         checked.map_err(|e| {
             let keys = ["tools.punch", "tools.die", "process.stroke"];
+            // The sizes that say whether the punch fits the opening at all.
+            let (lo, hi) = punch.bounds;
+            let opening = die.flange.as_ref().map_or(String::new(), |f| {
+                let [ox, oy] = f.opening_half();
+                format!("; the die's opening reaches ±{ox:.1} mm along x and ±{oy:.1} mm along y")
+            });
             fail(
                 "tools.punch",
                 &keys,
                 format!(
-                    "tools.punch = \"{}\" and tools.die = \"{}\": {e}",
-                    t.punch, t.die
+                    "tools.punch = \"{}\" and tools.die = \"{}\": {e} (the punch is {:.1} × \
+                     {:.1} mm in plan{opening})",
+                    t.punch,
+                    t.die,
+                    hi[0] - lo[0],
+                    hi[1] - lo[1]
                 ),
             )
         })?;
