@@ -10,9 +10,12 @@
 //! (many writers store zero or stale normals). Units are mm.
 //!
 //! What a file cannot be is refused with an [`StlError`] that names the file and the problem
-//! in words: empty, too large (see [`MAX_BYTES`], [`MAX_TRIANGLES`]), not an STL at all,
-//! truncated, a malformed ASCII line (with its number), coordinates that are not finite
-//! numbers, and a surface that cannot bound a tool ([`TriSurface::check`]).
+//! in words: not a regular file (a named pipe, a device such as `/dev/zero`, a directory: not
+//! read at all), empty, too large (see [`MAX_BYTES`], enforced while reading too, and
+//! [`MAX_TRIANGLES`]) or too large for the machine's memory, not an STL at all (and what it
+//! is when known), truncated, an ASCII STL spoilt by a byte that is not text (its offset and
+//! line), a malformed ASCII line (with its number), coordinates that are not finite numbers,
+//! and a surface that cannot bound a tool ([`TriSurface::check`]).
 
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
