@@ -10,9 +10,12 @@
 //! (many writers store zero or stale normals). Units are mm.
 //!
 //! What a file cannot be is refused with an [`StlError`] that names the file and the problem
-//! in words: empty, too large (see [`MAX_BYTES`], [`MAX_TRIANGLES`]), not an STL at all,
-//! truncated, a malformed ASCII line (with its number), coordinates that are not finite
-//! numbers, and a surface that cannot bound a tool ([`TriSurface::check`]).
+//! in words: not a regular file (a named pipe, a device such as `/dev/zero`, a directory: not
+//! read at all), empty, too large (see [`MAX_BYTES`], enforced while reading too, and
+//! [`MAX_TRIANGLES`]) or too large for the machine's memory, not an STL at all (and what it
+//! is when known), truncated, an ASCII STL spoilt by a byte that is not text (its offset and
+//! line), a malformed ASCII line (with its number), coordinates that are not finite numbers,
+//! and a surface that cannot bound a tool ([`TriSurface::check`]).
 
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -40,6 +43,8 @@ pub struct StlError {
 pub enum StlProblem {
     #[error("cannot read the file: {0}")]
     Read(std::io::Error),
+    #[error("it is {0}; expected a regular file holding an STL")]
+    NotAFile(&'static str),
     #[error("cannot write the file: {0}")]
     Write(std::io::Error),
     #[error("the file is empty (0 bytes); an STL file holds triangles")]
@@ -49,6 +54,20 @@ pub enum StlProblem {
          coarsen the mesh"
     )]
     TooLarge { bytes: u64, limit: u64 },
+    #[error(
+        "its size was reported as {reported} bytes, but it holds more than the limit of \
+         {limit} bytes for a tool's STL (is it growing, or not a plain file?)"
+    )]
+    GrewTooLarge { reported: u64, limit: u64 },
+    #[error(
+        "reading and checking its {triangles} triangles would need about {need}, but a run may \
+         use at most {limit} on this machine (80 % of what is available); coarsen the mesh"
+    )]
+    OverMemory {
+        triangles: u64,
+        need: String,
+        limit: String,
+    },
     #[error(
         "its header says {count} triangles, over the limit of {limit} (5 million) for a tool's \
          STL; coarsen the mesh"
@@ -72,6 +91,19 @@ pub enum StlProblem {
     NotStl(String),
     #[error("line {line}: {what}")]
     AsciiLine { line: usize, what: String },
+    #[error(
+        "it begins with `solid` as an ASCII STL does, but byte {offset} (counting from 0; \
+         line {line}{where_}) is 0x{byte:02x}, which is not text, so it is not an ASCII STL; \
+         nor is it a binary STL ({binary}). Remove the stray byte, or export the file again",
+        where_ = if *last { ", the file's last byte" } else { "" }
+    )]
+    AsciiNotText {
+        offset: usize,
+        line: usize,
+        byte: u8,
+        last: bool,
+        binary: String,
+    },
     #[error(
         "triangle {triangle} (of {count}, counting from 1) has a coordinate that is not a \
          finite number ({value})"
@@ -104,7 +136,7 @@ pub fn read_soup(path: &Path) -> Result<Vec<Triangle>, StlError> {
         path: path.to_path_buf(),
         problem,
     };
-    let mut file = std::fs::File::open(path).map_err(|e| at(StlProblem::Read(e)))?;
+    let mut file = open_regular(path).map_err(at)?;
     let bytes = file.metadata().map_err(|e| at(StlProblem::Read(e)))?.len();
     if bytes > MAX_BYTES {
         return Err(at(StlProblem::TooLarge {
@@ -119,10 +151,102 @@ pub fn read_soup(path: &Path) -> Result<Vec<Triangle>, StlError> {
         .read_to_end(&mut head)
         .map_err(|e| at(StlProblem::Read(e)))?;
     check_head(&head).map_err(at)?;
-    let mut all = head;
-    file.read_to_end(&mut all)
-        .map_err(|e| at(StlProblem::Read(e)))?;
+    check_memory(&head, bytes).map_err(at)?;
+    let all = read_bounded(&mut file, head, bytes, MAX_BYTES).map_err(at)?;
     parse(&all).map_err(at)
+}
+
+/// Opens `path` for reading when it is a regular file (after following links): a named pipe
+/// would block until someone writes to it, a device such as `/dev/zero` never ends, and a
+/// directory or a socket holds no file to read.
+fn open_regular(path: &Path) -> Result<std::fs::File, StlProblem> {
+    let meta = std::fs::metadata(path).map_err(StlProblem::Read)?;
+    not_special(&meta)?;
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    // Should the path become a pipe between the look and the opening, the opening must not
+    // wait for a writer (the check below then refuses it).
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NONBLOCK);
+    let file = options.open(path).map_err(StlProblem::Read)?;
+    not_special(&file.metadata().map_err(StlProblem::Read)?)?;
+    Ok(file)
+}
+
+/// Refuses what is not a regular file, naming what it is.
+fn not_special(meta: &std::fs::Metadata) -> Result<(), StlProblem> {
+    let kind = meta.file_type();
+    if kind.is_file() {
+        return Ok(());
+    }
+    if kind.is_dir() {
+        return Err(StlProblem::NotAFile(
+            "a directory (name the STL file in it)",
+        ));
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let what = if kind.is_fifo() {
+            "a named pipe (FIFO), whose reading waits for a writer and may never end"
+        } else if kind.is_char_device() {
+            "a character device (such as /dev/zero), whose reading may never end"
+        } else if kind.is_block_device() {
+            "a block device (a disk), not a file"
+        } else if kind.is_socket() {
+            "a socket, not a file"
+        } else {
+            "a special file"
+        };
+        return Err(StlProblem::NotAFile(what));
+    }
+    #[allow(unreachable_code)]
+    Err(StlProblem::NotAFile("a special file"))
+}
+
+/// The rest of the file after `head`, at most `limit` bytes in all whatever its size was
+/// reported as (`reported`): a file that grows, or one whose size the system does not know,
+/// is not read without end.
+fn read_bounded(
+    file: &mut impl Read,
+    head: Vec<u8>,
+    reported: u64,
+    limit: u64,
+) -> Result<Vec<u8>, StlProblem> {
+    let mut all = head;
+    all.reserve(reported.min(limit).saturating_sub(all.len() as u64) as usize);
+    let room = (limit + 1).saturating_sub(all.len() as u64);
+    file.take(room)
+        .read_to_end(&mut all)
+        .map_err(StlProblem::Read)?;
+    if all.len() as u64 > limit {
+        return Err(StlProblem::GrewTooLarge { reported, limit });
+    }
+    Ok(all)
+}
+
+/// About how many bytes reading, welding and checking one triangle takes at most (the file's
+/// 50 bytes, the soup's 72, the welded surface, the hierarchy of the crossing test).
+const BYTES_PER_TRIANGLE: f64 = 600.0;
+
+/// Refuses a file whose triangles would not fit in the memory a run may take, before they are
+/// read: a binary file's count is in its header; an ASCII facet takes 60 bytes or more.
+fn check_memory(head: &[u8], bytes: u64) -> Result<(), StlProblem> {
+    let triangles = if head.len() == 84 && !is_text(head) && !may_be_text(head) {
+        binary_count(head)
+    } else {
+        bytes / 60
+    };
+    let need = bytes as f64 + triangles as f64 * BYTES_PER_TRIANGLE;
+    let budget = crate::machine::memory_budget_bytes();
+    if need > budget {
+        return Err(StlProblem::OverMemory {
+            triangles,
+            need: crate::machine::show_bytes(need),
+            limit: crate::machine::show_bytes(budget),
+        });
+    }
+    Ok(())
 }
 
 /// Refuses what the first 84 bytes already show: an empty file, a known other format, a
@@ -134,7 +258,7 @@ fn check_head(head: &[u8]) -> Result<(), StlProblem> {
     if let Some(kind) = other_format(head) {
         return Err(StlProblem::NotStl(format!("it is {kind}")));
     }
-    if head.len() == 84 && !is_text(head) {
+    if head.len() == 84 && !is_text(head) && !may_be_text(head) {
         let count = binary_count(head);
         if count > MAX_TRIANGLES {
             return Err(StlProblem::TooManyTriangles {
@@ -156,6 +280,8 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<Triangle>, StlProblem> {
     }
     if is_text(bytes) {
         let text = String::from_utf8_lossy(bytes);
+        // A byte-order mark (some Windows editors write one) is not part of the text.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
         let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
         let starts_solid = first
             .split_whitespace()
@@ -168,9 +294,71 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<Triangle>, StlProblem> {
                 excerpt(first)
             )));
         }
-        return parse_ascii(&text);
+        return parse_ascii(text);
+    }
+    if let Some(not_binary) = binary_misfit(bytes) {
+        if starts_with_solid(bytes) {
+            return Err(ascii_not_text(bytes, not_binary));
+        }
+        if is_utf16(bytes) {
+            return Err(StlProblem::NotStl(
+                "it is UTF-16 text (\"Unicode\" in some editors); save the ASCII STL as UTF-8 \
+                 or plain ASCII"
+                    .into(),
+            ));
+        }
     }
     parse_binary(bytes)
+}
+
+/// Whether bytes that are not all text may still be text spoilt by a stray byte (they begin
+/// with `solid`) or text in UTF-16: [`parse`] tells, by the whole file, rather than a binary
+/// header's count read from them.
+fn may_be_text(head: &[u8]) -> bool {
+    starts_with_solid(head) || is_utf16(head)
+}
+
+/// Whether the bytes begin with a UTF-16 byte-order mark.
+fn is_utf16(bytes: &[u8]) -> bool {
+    bytes.starts_with(b"\xff\xfe") || bytes.starts_with(b"\xfe\xff")
+}
+
+/// Whether the bytes begin with `solid` (any case, after blanks and a byte-order mark), as an
+/// ASCII STL does (and some binary files' headers).
+fn starts_with_solid(bytes: &[u8]) -> bool {
+    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
+    let start = bytes.iter().position(|b| !b.is_ascii_whitespace());
+    start.is_some_and(|i| bytes[i..].len() >= 5 && bytes[i..i + 5].eq_ignore_ascii_case(b"solid"))
+}
+
+/// Why the bytes are not a binary STL, if they are not: too short, or a size other than the
+/// 84 + 50 × count bytes its header says.
+fn binary_misfit(bytes: &[u8]) -> Option<String> {
+    let actual = bytes.len() as u64;
+    if actual < 84 {
+        return Some(format!("{actual} bytes, shorter than its 84-byte header"));
+    }
+    let count = binary_count(bytes);
+    let expected = 84 + 50 * count;
+    (actual != expected).then(|| {
+        format!(
+            "read as one, its header would say {count} triangles, which take 84 + 50 × {count} = \
+             {expected} bytes, but the file holds {actual}"
+        )
+    })
+}
+
+/// An ASCII STL spoilt by a byte that is not text: where the byte is.
+fn ascii_not_text(bytes: &[u8], binary: String) -> StlProblem {
+    let offset = bytes.iter().position(|&b| !is_text(&[b])).unwrap_or(0);
+    let line = 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
+    StlProblem::AsciiNotText {
+        offset,
+        line,
+        byte: bytes[offset],
+        last: offset + 1 == bytes.len(),
+        binary,
+    }
 }
 
 /// A few formats a tool file is mistaken for, by their first bytes.
@@ -414,4 +602,29 @@ pub fn write_binary(path: &Path, surface: &TriSurface) -> Result<(), StlError> {
         path: path.to_path_buf(),
         problem: StlProblem::Write(e),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_endless_reader_is_read_up_to_the_limit_only() {
+        // What /proc files and growing files are: a reported size that is not what comes.
+        let mut endless = std::io::repeat(b'x');
+        let e = read_bounded(&mut endless, b"solid".to_vec(), 0, 1000).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                StlProblem::GrewTooLarge {
+                    reported: 0,
+                    limit: 1000
+                }
+            ),
+            "{e}"
+        );
+        let mut short = std::io::Cursor::new(vec![b'y'; 995]);
+        let all = read_bounded(&mut short, b"solid".to_vec(), 0, 1000).unwrap();
+        assert_eq!(all.len(), 1000);
+    }
 }

@@ -12,7 +12,7 @@
 
 use wovenform::core::drawing::DrawingProblem;
 use wovenform::core::tools::capped::tool_surfaces;
-use wovenform::core::tools::mesh_tool::{MeshTool, Role};
+use wovenform::core::tools::mesh_tool::{Limits, MeshTool, Role};
 use wovenform::core::tools::nearest::ExactDistance;
 use wovenform::core::tools::sampled::SampledDistance;
 use wovenform::core::tools::surface::TriSurface;
@@ -191,4 +191,62 @@ fn the_flange_starts_where_the_analytic_dies_entry_radius_ends() {
     let half = mesh_die.flange.as_ref().unwrap().opening_half();
     let want = p.tooling.opening_half()[0] + 10.0;
     assert!((half[0] - want).abs() < 1.0, "{half:?} vs {want}");
+}
+
+#[test]
+fn tables_kept_where_the_fabric_reaches_change_no_value_there() {
+    // The paper box's die (a 210 mm plate, its face from 41.5 mm off the centre) kept only
+    // within 70 mm of the centre in plan and 10 mm of its face: the same distance and flange
+    // where kept, the exact distance elsewhere.
+    let p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
+    let (_, surface) = tool_surfaces(&p.tooling, p.blank, p.stroke, 1.0);
+    let whole = MeshTool::new(Role::Die, "die.stl", &surface, 0.5, 1.0).unwrap();
+    let reach = ([-70.0, -70.0, -10.0], [70.0, 70.0, 10.0]);
+    let limits = Limits {
+        reach,
+        budget_bytes: f64::INFINITY,
+    };
+    let kept = MeshTool::within(Role::Die, "die.stl", &surface, 0.5, 1.0, &limits).unwrap();
+    let exact = ExactDistance::new(&surface);
+    let (mut inside, mut off) = (0, 0);
+    for i in 0..4000 {
+        let f = |k: f64| (i as f64 * k).fract();
+        let q = [
+            180.0 * f(0.618_033_988_75) - 90.0,
+            180.0 * f(0.414_213_562_37) - 90.0,
+            30.0 * f(0.732_050_807_57) - 20.0,
+        ];
+        let (a, b) = (
+            whole.distance.evaluate(q, true),
+            kept.distance.evaluate(q, true),
+        );
+        if (0..3).all(|k| q[k] > reach.0[k] && q[k] < reach.1[k]) {
+            inside += 1;
+            assert_eq!(a.d.to_bits(), b.d.to_bits(), "{q:?}");
+            assert_eq!(a.n, b.n, "{q:?}");
+        } else if (0..3).any(|k| q[k] < reach.0[k] - 6.0 || q[k] > reach.1[k] + 6.0) && q[2] < 0.0 {
+            // Off the kept lattice (a page, 4 mm, and a stencil beyond the reach), within the
+            // tool's box (x and y within its ±105 mm plate): the exact distance (to rounding:
+            // another hierarchy may pick another of several nearest triangles).
+            off += 1;
+            assert!((b.d - exact.query(q).d).abs() < 1e-9, "{q:?}");
+        }
+        let (fa, fb) = (
+            whole.flange.as_ref().unwrap(),
+            kept.flange.as_ref().unwrap(),
+        );
+        // Within 10 mm of the face's edge (where the holder's grip fades in) and that edge
+        // within the raster kept: the same flange.
+        if q[0].abs() < 60.0 && q[1].abs() < 60.0 && fa.distance(q[0], q[1]).0.abs() < 10.0 {
+            assert_eq!(fa.distance(q[0], q[1]), fb.distance(q[0], q[1]), "{q:?}");
+        }
+    }
+    assert!(inside > 300 && off > 300, "{inside} {off}");
+    // A budget smaller than the tables: refused before they are made, naming the sizes.
+    let tight = Limits {
+        reach,
+        budget_bytes: 1e5,
+    };
+    let e = MeshTool::within(Role::Die, "die.stl", &surface, 0.5, 1.0, &tight).unwrap_err();
+    assert!(e.to_string().contains("over the 1.000e5 bytes"), "{e}");
 }

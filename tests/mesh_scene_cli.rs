@@ -147,9 +147,12 @@ fn misplaced_tools_are_refused_before_solving() {
     let s = scene(d, "punch.stl", "moved.stl", 120.0);
     write_binary(&d.join("moved.stl"), &die.translated([0.0, 0.0, -1.0])).unwrap();
     refused(&run(&s, &[]), &["moved.stl", "highest point is at z = -1"]);
-    // A die with no flat face: the punch turned upside down (its tip at z = 0).
+    // A die with no flat face: the punch turned upside down (its tip at z = 0), widened to
+    // reach under the whole blank.
     let mut dome = punch.clone();
-    dome.vertices.iter_mut().for_each(|v| v[2] = -v[2]);
+    dome.vertices
+        .iter_mut()
+        .for_each(|v| *v = [3.0 * v[0], 3.0 * v[1], -v[2]]);
     dome.triangles.iter_mut().for_each(|t| t.swap(1, 2));
     write_binary(&d.join("moved.stl"), &dome).unwrap();
     refused(&run(&s, &[]), &["moved.stl", "no face in z = 0"]);
@@ -181,7 +184,12 @@ fn a_punch_in_the_die_is_refused_naming_both() {
     let s = scene(d, "wide/punch.stl", "narrow/die.stl", 170.0);
     refused(
         &run(&s, &[]),
-        &["wide/punch.stl", "narrow/die.stl", "starts inside the die"],
+        &[
+            "wide/punch.stl",
+            "narrow/die.stl",
+            "starts inside the die",
+            "the punch is 60.0 × 60.0 mm in plan; the die's opening reaches ±",
+        ],
     );
     // A 30 mm hemisphere into the die of a 20 mm one: it runs into the die on its way down.
     let big = d.join("big");

@@ -7,8 +7,41 @@
 //! rasterised on a plan grid, its exact Euclidean distance transform (Felzenszwalb &
 //! Huttenlocher) gives the signed distance to its edge at the cells' centres, and bicubic
 //! Catmull-Rom interpolation makes that C1.
+//!
+//! The raster covers the die's plan, but only where the blank can be
+//! ([`Flange::within`]): a die plate far wider than the blank is not rasterised where no
+//! fabric goes (cells are counted from the full raster's corner, so clipping moves none).
 
 use super::surface::TriSurface;
+
+/// A plan box, mm: its lowest and highest corners.
+pub type Box2 = ([f64; 2], [f64; 2]);
+
+/// Why a die has no flange where the blank is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NoFlange {
+    /// No triangle lies in z = 0 facing up.
+    NoFace,
+    /// Its face lies wholly outside the plan box given.
+    OutsideReach,
+}
+
+/// The bytes the raster and its distance transforms take per cell.
+const BYTES_PER_CELL: f64 = 41.0;
+
+/// The cells of the full raster kept along each axis: the first one and how many (as `f64`,
+/// so that a raster too large to allocate is measured without overflow).
+fn cells(die_bounds: ([f64; 3], [f64; 3]), spacing: f64, reach: Box2) -> ([f64; 2], [[f64; 2]; 2]) {
+    let (lo, hi) = die_bounds;
+    let origin = [lo[0] - 2.0 * spacing, lo[1] - 2.0 * spacing];
+    let full = [0, 1].map(|a| ((hi[a] - lo[a]) / spacing).ceil() + 5.0);
+    let kept = [0, 1].map(|a| {
+        let from = (((reach.0[a] - origin[a]) / spacing).floor() - 2.0).clamp(0.0, full[a]);
+        let to = (((reach.1[a] - origin[a]) / spacing).ceil() + 2.0).clamp(0.0, full[a] - 1.0);
+        [from, (to - from + 1.0).max(0.0)]
+    });
+    (origin, kept)
+}
 
 /// How far from z = 0 a face triangle's corners may lie, mm.
 pub const FACE_TOL_MM: f64 = 0.01;
@@ -16,7 +49,9 @@ pub const FACE_TOL_MM: f64 = 0.01;
 /// The flange field of a die.
 #[derive(Clone, Debug)]
 pub struct Flange {
+    /// The full raster's corner (the cells kept start `first` cells further).
     origin: [f64; 2],
+    first: [usize; 2],
     spacing: f64,
     dims: [usize; 2],
     /// Signed distance to the face's edge at each cell centre (row-major in x), mm.
@@ -106,13 +141,21 @@ fn catmull_rom(t: f64) -> ([f64; 4], [f64; 4]) {
 }
 
 impl Flange {
-    /// The face of `die` (a checked surface) at plan spacing `spacing`, or `None` when no
-    /// triangle lies in z = 0 facing up.
-    pub fn of(die: &TriSurface, spacing: f64) -> Option<Flange> {
-        let (lo, hi) = die.bounds();
-        let origin = [lo[0] - 2.0 * spacing, lo[1] - 2.0 * spacing];
-        let dims = [0, 1].map(|a| ((hi[a] - lo[a]) / spacing).ceil() as usize + 5);
+    /// The bytes [`Flange::within`] takes for a die of bounds `die_bounds`.
+    pub fn raster_bytes(die_bounds: ([f64; 3], [f64; 3]), spacing: f64, reach: Box2) -> f64 {
+        let (_, kept) = cells(die_bounds, spacing, reach);
+        kept[0][1] * kept[1][1] * BYTES_PER_CELL
+    }
+
+    /// The face of `die` (a checked surface) at plan spacing `spacing`, rasterised within the
+    /// plan box `reach` only; refused when no triangle lies in z = 0 facing up, or none within
+    /// `reach`.
+    pub fn within(die: &TriSurface, spacing: f64, reach: Box2) -> Result<Flange, NoFlange> {
+        let (origin, kept) = cells(die.bounds(), spacing, reach);
+        let first = [0, 1].map(|a| kept[a][0] as usize);
+        let dims = [0, 1].map(|a| kept[a][1] as usize);
         let mut face = vec![false; dims[0] * dims[1]];
+        let mut any_face = false;
         let mut area = 0.0;
         let cos_tol = 1f64.to_radians().cos();
         for t in 0..die.triangles.len() {
@@ -136,8 +179,13 @@ impl Flange {
                 continue;
             }
             area += 0.5 * cross;
-            // Cells whose centres the triangle covers.
-            let cell = |x: f64, a: usize| ((x - origin[a]) / spacing - 0.5).floor();
+            any_face = true;
+            if dims[0] == 0 || dims[1] == 0 {
+                continue;
+            }
+            // Cells whose centres the triangle covers (counted from the first kept).
+            let cell =
+                |x: f64, a: usize| ((x - origin[a]) / spacing - 0.5).floor() - first[a] as f64;
             let (x0, x1) = (
                 cell(a[0].min(b[0]).min(c[0]), 0),
                 cell(a[0].max(b[0]).max(c[0]), 0) + 1.0,
@@ -149,8 +197,8 @@ impl Flange {
             for j in y0.max(0.0) as usize..=(y1.max(0.0) as usize).min(dims[1] - 1) {
                 for i in x0.max(0.0) as usize..=(x1.max(0.0) as usize).min(dims[0] - 1) {
                     let p = [
-                        origin[0] + (i as f64 + 0.5) * spacing - a[0],
-                        origin[1] + (j as f64 + 0.5) * spacing - a[1],
+                        origin[0] + ((first[0] + i) as f64 + 0.5) * spacing - a[0],
+                        origin[1] + ((first[1] + j) as f64 + 0.5) * spacing - a[1],
                     ];
                     // Barycentric test (the triangle winds counter-clockwise in plan).
                     let s = (p[0] * v[1] - p[1] * v[0]) / cross;
@@ -162,8 +210,11 @@ impl Flange {
                 }
             }
         }
-        if area <= 0.0 || !face.iter().any(|&f| f) {
-            return None;
+        if area <= 0.0 || !any_face {
+            return Err(NoFlange::NoFace);
+        }
+        if !face.iter().any(|&f| f) {
+            return Err(NoFlange::OutsideReach);
         }
         let to_face = edt(dims, &|i| face[i]);
         let to_open = edt(dims, &|i| !face[i]);
@@ -176,8 +227,9 @@ impl Flange {
                 }
             })
             .collect();
-        Some(Flange {
+        Ok(Flange {
             origin,
+            first,
             spacing,
             dims,
             values,
@@ -194,8 +246,8 @@ impl Flange {
     /// The signed plan distance to the face's edge at `(x, y)` (positive on the face), mm, and
     /// its gradient.
     pub fn distance(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
-        let gx = (x - self.origin[0]) / self.spacing - 0.5;
-        let gy = (y - self.origin[1]) / self.spacing - 0.5;
+        let gx = (x - self.origin[0]) / self.spacing - 0.5 - self.first[0] as f64;
+        let gy = (y - self.origin[1]) / self.spacing - 0.5 - self.first[1] as f64;
         if !gx.is_finite() || !gy.is_finite() {
             return (f64::NEG_INFINITY, [0.0; 2]);
         }
@@ -217,7 +269,8 @@ impl Flange {
     /// The grid: origin of cell (0, 0)'s corner, spacing, cells along x and y, and the signed
     /// distance at each cell centre (row-major in x), for drawing the face's edge.
     pub fn grid(&self) -> ([f64; 2], f64, [usize; 2], &[f64]) {
-        (self.origin, self.spacing, self.dims, &self.values)
+        let corner = [0, 1].map(|a| self.origin[a] + self.first[a] as f64 * self.spacing);
+        (corner, self.spacing, self.dims, &self.values)
     }
 
     /// Half extents of the opening along the axes through the origin (where the face starts

@@ -4,8 +4,8 @@
 //! The fabric meets it through [`SampledDistance`] (smooth), the holder through the die's
 //! [`Flange`].
 
-use super::flange::Flange;
-use super::sampled::SampledDistance;
+use super::flange::{Flange, NoFlange};
+use super::sampled::{Box3, EVERYWHERE, SampledDistance};
 use super::surface::TriSurface;
 
 /// How far a punch's lowest point or a die's highest may lie from z = 0, mm.
@@ -40,6 +40,22 @@ pub enum PlacementError {
     )]
     NoFace,
     #[error(
+        "no part of the die's face in z = 0 lies under the blank or near it (x from {:.1} to \
+         {:.1} mm, y from {:.1} to {:.1} mm): its opening is wider than the blank, and the \
+         holder has nothing to press the blank on", near.0[0], near.1[0], near.0[1], near.1[1]
+    )]
+    FaceNotUnderBlank { near: ([f64; 3], [f64; 3]) },
+    #[error(
+        "its tables would take {total:.3e} bytes (its {part} {part_bytes:.3e}), over the \
+         {limit:.3e} bytes a run may use"
+    )]
+    TooLarge {
+        total: f64,
+        part: &'static str,
+        part_bytes: f64,
+        limit: f64,
+    },
+    #[error(
         "the punch starts inside the die (or on its face, where it would pinch the blank): \
          {START_MM} mm into the stroke its point ({:.2}, {:.2}, {:.2}) mm is {depth_mm:.3} mm \
          deep in the die's material", at[0], at[1], at[2]
@@ -55,6 +71,19 @@ pub enum PlacementError {
         at: [f64; 3],
         depth_mm: f64,
     },
+}
+
+/// Refuses a punch whose lowest point, or a die whose highest, is not in z = 0.
+fn placed(role: Role, (lo, hi): Box3) -> Result<(), PlacementError> {
+    match role {
+        Role::Punch if lo[2].abs() > PLACEMENT_TOL_MM => {
+            Err(PlacementError::PunchNotAtBlank { lowest_mm: lo[2] })
+        }
+        Role::Die if hi[2].abs() > PLACEMENT_TOL_MM => {
+            Err(PlacementError::DieNotAtFace { highest_mm: hi[2] })
+        }
+        _ => Ok(()),
+    }
 }
 
 /// A rigid tool from a triangle surface.
@@ -93,14 +122,81 @@ impl PartialEq for MeshTool {
     }
 }
 
+/// 64-bit FNV-1a of the surface's vertices (their bits) and triangles: the same on every
+/// platform and Rust version, so that it can be stored (a sweep's lock keeps it).
 fn fingerprint(surface: &TriSurface) -> u64 {
-    use std::hash::{Hash, Hasher};
-    let mut h = std::collections::hash_map::DefaultHasher::new();
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bytes: &[u8]| {
+        for &b in bytes {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    };
     for v in &surface.vertices {
-        v.map(f64::to_bits).hash(&mut h);
+        for x in v {
+            eat(&x.to_bits().to_le_bytes());
+        }
     }
-    surface.triangles.hash(&mut h);
-    h.finish()
+    for t in &surface.triangles {
+        for i in t {
+            eat(&i.to_le_bytes());
+        }
+    }
+    h
+}
+
+/// Where the fabric can be, in a tool's own frame, and the memory its tables may take.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// The lattice and the face raster cover no more of the tool than this box, mm.
+    pub reach: Box3,
+    /// The bytes the tool's tables may take.
+    pub budget_bytes: f64,
+}
+
+impl Limits {
+    /// The whole tool, whatever it takes.
+    pub const EVERYWHERE: Limits = Limits {
+        reach: EVERYWHERE,
+        budget_bytes: f64::INFINITY,
+    };
+}
+
+/// About how many bytes the exact distance keeps per triangle: its corners, normals,
+/// pseudonormals and the hierarchy's nodes.
+const HIERARCHY_BYTES_PER_TRIANGLE: f64 = 400.0;
+
+/// The bytes a tool's tables would take, part by part (named for messages), before any is
+/// allocated: the exact distance's hierarchy, the lattice's page table and the samples the
+/// fabric can visit, and a die's face raster.
+pub fn footprint(
+    role: Role,
+    surface: &TriSurface,
+    spacing: f64,
+    band: f64,
+    reach: Box3,
+) -> Vec<(&'static str, f64)> {
+    let bounds = surface.bounds();
+    let hierarchy = surface.triangles.len() as f64 * HIERARCHY_BYTES_PER_TRIANGLE
+        + surface.vertices.len() as f64 * 48.0;
+    let overlap = |a: usize| (bounds.1[a].min(reach.1[a]) - bounds.0[a].max(reach.0[a])).max(0.0);
+    let (table, samples) = SampledDistance::table_bytes(
+        bounds,
+        spacing,
+        band,
+        band + 4.0 * spacing,
+        reach,
+        overlap(0) * overlap(1),
+    );
+    let mut parts = vec![
+        ("triangle hierarchy", hierarchy),
+        ("distance lattice", table + samples),
+    ];
+    if role == Role::Die {
+        let plan = ([reach.0[0], reach.0[1]], [reach.1[0], reach.1[1]]);
+        parts.push(("face raster", Flange::raster_bytes(bounds, spacing, plan)));
+    }
+    parts
 }
 
 impl MeshTool {
@@ -113,35 +209,65 @@ impl MeshTool {
         spacing: f64,
         band: f64,
     ) -> Result<MeshTool, PlacementError> {
+        Self::within(role, name, surface, spacing, band, &Limits::EVERYWHERE)
+    }
+
+    /// [`MeshTool::new`] with its lattice and face raster kept where the fabric can be
+    /// (`limits.reach`), refused before anything is allocated when its tables would take more
+    /// than `limits.budget_bytes` (see [`footprint`]).
+    pub fn within(
+        role: Role,
+        name: &str,
+        surface: &TriSurface,
+        spacing: f64,
+        band: f64,
+        limits: &Limits,
+    ) -> Result<MeshTool, PlacementError> {
         let bounds = surface.bounds();
+        placed(role, bounds)?;
+        let parts = footprint(role, surface, spacing, band, limits.reach);
+        let total: f64 = parts.iter().map(|p| p.1).sum();
+        if total > limits.budget_bytes || !total.is_finite() {
+            let (part, part_bytes) = parts
+                .iter()
+                .fold(("", 0.0), |m, p| if p.1 > m.1 { *p } else { m });
+            return Err(PlacementError::TooLarge {
+                total,
+                part,
+                part_bytes,
+                limit: limits.budget_bytes,
+            });
+        }
+        let r = limits.reach;
         let flange = match role {
-            Role::Punch => {
-                if bounds.0[2].abs() > PLACEMENT_TOL_MM {
-                    return Err(PlacementError::PunchNotAtBlank {
-                        lowest_mm: bounds.0[2],
-                    });
-                }
-                None
-            }
-            Role::Die => {
-                if bounds.1[2].abs() > PLACEMENT_TOL_MM {
-                    return Err(PlacementError::DieNotAtFace {
-                        highest_mm: bounds.1[2],
-                    });
-                }
-                Some(Flange::of(surface, spacing).ok_or(PlacementError::NoFace)?)
-            }
+            Role::Punch => None,
+            Role::Die => Some(
+                Flange::within(surface, spacing, ([r.0[0], r.0[1]], [r.1[0], r.1[1]])).map_err(
+                    |e| match e {
+                        NoFlange::NoFace => PlacementError::NoFace,
+                        NoFlange::OutsideReach => PlacementError::FaceNotUnderBlank { near: r },
+                    },
+                )?,
+            ),
         };
+        let distance =
+            SampledDistance::within(surface, spacing, band, band + 4.0 * spacing, limits.reach);
         Ok(MeshTool {
             role,
             name: name.to_string(),
             triangles: surface.triangles.len(),
-            distance: SampledDistance::new(surface, spacing, band, band + 4.0 * spacing),
+            distance,
             flange,
             bounds,
             vertices: surface.vertices.clone(),
             fingerprint: fingerprint(surface),
         })
+    }
+
+    /// A hash of the tool's surface (its vertices and triangles), stable across platforms:
+    /// two files holding the same surface have the same.
+    pub fn fingerprint(&self) -> u64 {
+        self.fingerprint
     }
 
     /// The tool's surface as read.

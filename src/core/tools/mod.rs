@@ -16,9 +16,12 @@
 pub mod capped;
 pub mod double_dome;
 pub mod flange;
+pub mod intersect;
 pub mod mesh_tool;
 pub mod nearest;
 pub mod sampled;
+pub mod scale;
+pub mod shells;
 pub mod surface;
 pub mod tessellate;
 

@@ -9,8 +9,14 @@
 //! so a tool's memory grows with the part of it the fabric visits). Far from the surface no
 //! sample is needed: a page's centre distance `d_c` bounds every point's, `|d| ≥ |d_c| − |p − c|`,
 //! and where that bound exceeds the `band` the bound itself is the answer. Outside the lattice
-//! the distance to the tool's bounding box is. Contact acts within a small gap of the surface,
-//! well inside the band, so these bounds never carry a force.
+//! the distance to the tool's bounding box is (outside the box), or the exact distance (inside
+//! it). Contact acts within a small gap of the surface, well inside the band, so these bounds
+//! never carry a force.
+//!
+//! The lattice covers the tool's bounding box grown by a margin, but only where the fabric can
+//! reach ([`SampledDistance::within`]): a die plate far wider than the blank keeps no pages
+//! for the part no fabric visits. The pages kept are whole pages of the full lattice (the same
+//! nodes, the same page centres), so that clipping changes no value.
 
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
@@ -44,12 +50,53 @@ struct Page {
     samples: OnceLock<Box<[AtomicU32]>>,
 }
 
+/// A box, mm: its lowest and highest corners.
+pub type Box3 = (V3, V3);
+
+/// All of space, for a lattice over the whole tool.
+pub const EVERYWHERE: Box3 = ([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]);
+
+/// The nodes of the lattice kept, per axis (as `f64`, so that a lattice too large to allocate
+/// is measured without overflow): the full lattice's first node `origin`, the first node kept
+/// (a whole number of pages in) and how many are kept.
+struct Layout {
+    origin: V3,
+    first: [f64; 3],
+    nodes: [f64; 3],
+}
+
+impl Layout {
+    fn of(bounds: Box3, spacing: f64, margin: f64, reach: Box3) -> Layout {
+        let (lo, hi) = bounds;
+        let origin = lo.map(|v| v - margin);
+        let full = [0, 1, 2].map(|i| ((hi[i] - lo[i] + 2.0 * margin) / spacing).ceil() + 1.0);
+        // The nodes the stencils of points in `reach` use (one cell more each side).
+        let from = [0, 1, 2].map(|i| ((reach.0[i] - origin[i]) / spacing).floor() - 2.0);
+        let to = [0, 1, 2].map(|i| ((reach.1[i] - origin[i]) / spacing).ceil() + 2.0);
+        let p = P as f64;
+        let first = [0, 1, 2].map(|i| ((from[i].max(0.0) / p).floor() * p).min(full[i]));
+        let last = [0, 1, 2].map(|i| to[i].min(full[i] - 1.0));
+        let nodes = [0, 1, 2].map(|i| (last[i] - first[i] + 1.0).max(0.0));
+        Layout {
+            origin,
+            first,
+            nodes,
+        }
+    }
+
+    fn pages(&self) -> [f64; 3] {
+        self.nodes.map(|n| (n / P as f64).ceil())
+    }
+}
+
 /// The smooth signed distance of a closed triangle surface.
 pub struct SampledDistance {
     exact: ExactDistance,
     spacing: f64,
     band: f64,
+    /// The full lattice's first node (the nodes kept start `first` nodes further).
     origin: V3,
+    first: [usize; 3],
     nodes: [usize; 3],
     pages_per_axis: [usize; 3],
     pages: Vec<Page>,
@@ -91,11 +138,43 @@ impl SampledDistance {
     /// The lattice of spacing `spacing` over the surface's bounding box grown by `margin`
     /// (which must exceed `band` by three spacings), exact within `band` of the surface.
     pub fn new(surface: &TriSurface, spacing: f64, band: f64, margin: f64) -> SampledDistance {
+        Self::within(surface, spacing, band, margin, EVERYWHERE)
+    }
+
+    /// The bytes the lattice's page table of [`SampledDistance::within`] takes (allocated at
+    /// once), and those its samples would take over `area_mm2` of surface (allocated as the
+    /// fabric visits it: a sheet crosses pages obliquely, so about four pages deep).
+    pub fn table_bytes(
+        bounds: Box3,
+        spacing: f64,
+        band: f64,
+        margin: f64,
+        reach: Box3,
+        area_mm2: f64,
+    ) -> (f64, f64) {
+        let margin = margin.max(band + 3.0 * spacing);
+        let pages = Layout::of(bounds, spacing, margin, reach).pages();
+        let table = pages.iter().product::<f64>() * size_of::<Page>() as f64;
+        let page_side = P as f64 * spacing;
+        let visited = (4.0 * area_mm2 / (page_side * page_side)).min(pages.iter().product());
+        (table, visited * (P * P * P * 4 + 16) as f64)
+    }
+
+    /// [`SampledDistance::new`] keeping only the pages that points in `reach` use: elsewhere
+    /// (where no fabric goes) the exact distance is computed when asked.
+    pub fn within(
+        surface: &TriSurface,
+        spacing: f64,
+        band: f64,
+        margin: f64,
+        reach: Box3,
+    ) -> SampledDistance {
         let (lo, hi) = surface.bounds();
         let margin = margin.max(band + 3.0 * spacing);
-        let origin = lo.map(|v| v - margin);
-        let nodes =
-            [0, 1, 2].map(|i| ((hi[i] - lo[i] + 2.0 * margin) / spacing).ceil() as usize + 1);
+        let layout = Layout::of((lo, hi), spacing, margin, reach);
+        let origin = layout.origin;
+        let first = layout.first.map(|v| v as usize);
+        let nodes = layout.nodes.map(|v| v as usize);
         let pages_per_axis = nodes.map(|n| n.div_ceil(P));
         let count = pages_per_axis.iter().product();
         let pages = (0..count)
@@ -109,6 +188,7 @@ impl SampledDistance {
             spacing,
             band,
             origin,
+            first,
             nodes,
             pages_per_axis,
             pages,
@@ -123,7 +203,8 @@ impl SampledDistance {
         &self.exact
     }
 
-    /// The lattice's first node, mm (the others at whole spacings from it).
+    /// The full lattice's first node, mm (every node, kept or not, at whole spacings from
+    /// it).
     pub fn lattice_origin(&self) -> V3 {
         self.origin
     }
@@ -170,17 +251,28 @@ impl SampledDistance {
             .get_or_init(|| (0..P * P * P).map(|_| AtomicU32::new(UNSET)).collect())
     }
 
-    /// The exact distance at lattice node `i`, kept in `samples[local]`.
+    /// The exact distance at lattice node `i` (counted from the first node kept), kept in
+    /// `samples[local]`.
     fn compute(&self, samples: &[AtomicU32], local: usize, i: [usize; 3]) -> f64 {
-        let x = [0, 1, 2].map(|a| self.origin[a] + i[a] as f64 * self.spacing);
+        let x = [0, 1, 2].map(|a| self.origin[a] + (self.first[a] + i[a]) as f64 * self.spacing);
         let d = self.exact.query(x).d;
         samples[local].store((d as f32).to_bits(), Ordering::Relaxed);
         self.computed.fetch_add(1, Ordering::Relaxed);
         d
     }
 
-    /// The lower bound from the bounding box, for points off the lattice.
+    /// Off the lattice: the lower bound from the bounding box outside it, the exact distance
+    /// inside (where a lattice kept only where the fabric reaches leaves the tool).
     fn off_lattice(&self, p: V3) -> Evaluation {
+        let in_box = (0..3).all(|i| p[i] >= self.lo[i] && p[i] <= self.hi[i]);
+        if in_box {
+            let q = self.exact.query(p);
+            return Evaluation {
+                d: q.d,
+                n: q.n,
+                hessian: None,
+            };
+        }
         let v = [0, 1, 2].map(|i| p[i] - p[i].clamp(self.lo[i], self.hi[i]));
         let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         Evaluation {
@@ -197,17 +289,18 @@ impl SampledDistance {
     /// The smooth signed distance at `p`, its gradient, and its Hessian when `hessian`.
     pub fn evaluate(&self, p: V3, hessian: bool) -> Evaluation {
         let h = self.spacing;
-        let g = [0, 1, 2].map(|a| (p[a] - self.origin[a]) / h);
+        // Counted from the first node kept (exact: a whole number off a larger one).
+        let g = [0, 1, 2].map(|a| (p[a] - self.origin[a]) / h - self.first[a] as f64);
         let base = g.map(|v| v.floor());
-        let inside = (0..3).all(|a| base[a] >= 1.0 && base[a] + 2.0 <= (self.nodes[a] - 1) as f64);
+        let inside = (0..3).all(|a| base[a] >= 1.0 && base[a] + 2.0 <= self.nodes[a] as f64 - 1.0);
         if !inside || g.iter().any(|v| !v.is_finite()) {
             return self.off_lattice(p);
         }
         let cell = base.map(|v| v as usize);
         // Far from the surface: the page centre's distance bounds the point's.
         let page = cell.map(|v| v / P);
-        let centre =
-            [0, 1, 2].map(|a| self.origin[a] + ((page[a] * P) as f64 + 0.5 * P as f64) * h);
+        let centre = [0, 1, 2]
+            .map(|a| self.origin[a] + ((self.first[a] + page[a] * P) as f64 + 0.5 * P as f64) * h);
         let info = *self.pages[self.page_index(page)]
             .centre
             .get_or_init(|| self.page_info(centre));

@@ -5,7 +5,9 @@
 //! [`TriSurface::from_soup`] welds the corners that coincide (a triangle soup, as STL stores
 //! it, repeats every vertex) and [`TriSurface::check`] refuses what no tool can be: no
 //! triangles, coordinates that are not numbers, a surface with holes (an edge with one
-//! triangle), triangles facing both ways, an inside-out surface (negative enclosed volume).
+//! triangle), triangles facing both ways, a triangle with no area, an inside-out surface
+//! (negative enclosed volume), a surface passing through itself ([`super::intersect`]) and
+//! shells enclosing material twice ([`super::shells`]).
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -79,8 +81,46 @@ pub enum SurfaceError {
          Reverse Sense, Blender's Flip Normals)"
     )]
     InsideOut { volume_mm3: f64 },
+    #[error(
+        "{dropped} of its {total} triangles lost a corner when corners within {quantum_mm:.3e} \
+         mm of each other were joined (a billionth of its largest coordinate, {largest_mm:.3e} \
+         mm): is a coordinate far from the others (a stray vertex), or are its triangles \
+         smaller than that?"
+    )]
+    Collapsed {
+        dropped: usize,
+        total: usize,
+        quantum_mm: f64,
+        largest_mm: f64,
+    },
     #[error("it encloses no volume ({volume_mm3:.3e} mm³): a flat or degenerate surface")]
     NoVolume { volume_mm3: f64 },
+    #[error(
+        "a triangle near {} mm has its three corners in a line (no area, so it faces no \
+         way): repair the mesh (a zero-area sliver between two faces)",
+        mm(at)
+    )]
+    Degenerate { at: [f64; 3] },
+    #[error(
+        "it passes through itself: two of its triangles cross near {} mm (two overlapping \
+         solids in one file, or a surface folded through itself); a tool must enclose its \
+         material once: unite the solids (a boolean union) or repair the mesh",
+        mm(at)
+    )]
+    SelfIntersecting { at: [f64; 3] },
+    #[error(
+        "it encloses material twice: {} near {} mm lies {}; unite the solids (a boolean union) \
+         or remove the inner one",
+        if *solid { "a closed shell" } else { "a cavity (a shell facing inwards)" },
+        mm(at),
+        if *solid { "inside another solid" } else { "outside any solid" }
+    )]
+    Misnested { at: [f64; 3], solid: bool },
+}
+
+/// A point as a message shows it: `(1.250, -3.000, 0.000)`.
+fn mm(p: &[f64; 3]) -> String {
+    format!("({:.3}, {:.3}, {:.3})", p[0], p[1], p[2])
 }
 
 /// An indexed triangle surface, mm.
@@ -93,7 +133,9 @@ pub struct TriSurface {
 impl TriSurface {
     /// Welds the corners of a triangle soup that lie within `1e-9` of the soup's size of each
     /// other (exactly equal corners, as STL writers repeat them, always weld) and drops the
-    /// triangles that lose a corner to the weld (zero area). Non-finite coordinates are refused.
+    /// triangles that lose a corner to the weld (zero area). Non-finite coordinates are refused,
+    /// and so is a soup that loses most of its triangles to the weld (a stray coordinate far
+    /// from the others makes the weld's quantum larger than the triangles).
     pub fn from_soup(soup: &[[[f64; 3]; 3]]) -> Result<TriSurface, SurfaceError> {
         if soup.is_empty() {
             return Err(SurfaceError::Empty);
@@ -126,6 +168,16 @@ impl TriSurface {
             if ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2] {
                 triangles.push(ids);
             }
+        }
+        // A few slivers with repeated corners go; most of the triangles going is no weld.
+        let dropped = soup.len() - triangles.len();
+        if dropped > soup.len() / 2 {
+            return Err(SurfaceError::Collapsed {
+                dropped,
+                total: soup.len(),
+                quantum_mm: quantum,
+                largest_mm: size,
+            });
         }
         Ok(TriSurface {
             vertices,
@@ -181,6 +233,9 @@ impl TriSurface {
         if let (n, Some((from, to))) = find(&|u| u.0 != 1 || u.1 != 1) {
             return Err(SurfaceError::Inconsistent { edges: n, from, to });
         }
+        if let Some((_, at)) = super::intersect::degenerate_triangle(self) {
+            return Err(SurfaceError::Degenerate { at });
+        }
         let volume = self.volume_mm3();
         let (lo, hi) = self.bounds();
         let box_volume: f64 = (0..3).map(|i| (hi[i] - lo[i]).max(0.0)).product();
@@ -189,6 +244,15 @@ impl TriSurface {
         }
         if volume < 0.0 {
             return Err(SurfaceError::InsideOut { volume_mm3: volume });
+        }
+        if let Some(c) = super::intersect::self_intersection(self) {
+            return Err(SurfaceError::SelfIntersecting { at: c.at });
+        }
+        if let Some(m) = super::shells::misnested_shell(self) {
+            return Err(SurfaceError::Misnested {
+                at: m.at,
+                solid: m.solid,
+            });
         }
         Ok(volume)
     }
@@ -287,6 +351,21 @@ mod tests {
         mixed[0] = [mixed[0][0], mixed[0][2], mixed[0][1]];
         let e = TriSurface::from_soup(&mixed).unwrap().check().unwrap_err();
         assert!(matches!(e, SurfaceError::Inconsistent { .. }), "{e}");
+        // One corner a light-year away: the weld's quantum swallows the cube.
+        let mut stray = cube();
+        stray[0][0] = [1e30, 0.0, 0.0];
+        let e = TriSurface::from_soup(&stray).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                SurfaceError::Collapsed {
+                    dropped: 12,
+                    total: 12,
+                    ..
+                }
+            ),
+            "{e}"
+        );
         let mut nan = cube();
         nan[5][1][2] = f64::NAN;
         assert_eq!(

@@ -43,9 +43,37 @@ pub struct Plan {
     /// The base scene as run (every key, defaults filled in), before the swept values.
     pub base_scene: Scene,
     pub axes: Vec<Axis>,
-    /// FNV-1a hashes of the base scene (as run) and of the grid.
+    /// FNV-1a hashes of the base scene (as run, with what its tool files hold) and of the
+    /// grid.
     pub base_hash: String,
     pub sweep_hash: String,
+    /// A mesh scene's tool files and what they held (their surfaces' fingerprints) when the
+    /// plan was made: a file written anew changes the base hash, as an edited key does.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tool_files: Vec<ToolFile>,
+}
+
+/// A tool file of the base scene and the fingerprint of the surface it held.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToolFile {
+    pub key: String,
+    pub file: String,
+    pub surface: String,
+}
+
+/// The base scene's tool files as read ([`crate::core::tools::mesh_tool::MeshTool::fingerprint`]).
+fn tool_files(scene: &Scene) -> Vec<ToolFile> {
+    let Some(loaded) = scene.tools.loaded.as_ref() else {
+        return Vec::new();
+    };
+    [("tools.punch", &loaded.punch), ("tools.die", &loaded.die)]
+        .into_iter()
+        .map(|(key, tool)| ToolFile {
+            key: key.into(),
+            file: tool.name.clone(),
+            surface: format!("{:016x}", tool.fingerprint()),
+        })
+        .collect()
 }
 
 /// Deep merge: `over`'s keys replace `base`'s, tables merged key by key.
@@ -135,7 +163,14 @@ impl Plan {
             .map_err(|e| SweepError::Run(format!("cannot tabulate the base scene: {e}")))?;
         let axes = axes_of(doc, &scene_table).map_err(bad)?;
         let base_json = serde_json::to_string(&base_scene).expect("a scene is plain data");
-        let base_hash = fnv_hex(&base_json);
+        // The scene names its tool files; what they hold is hashed too.
+        let tool_files = tool_files(&base_scene);
+        let base_hash = if tool_files.is_empty() {
+            fnv_hex(&base_json)
+        } else {
+            let tools = serde_json::to_string(&tool_files).expect("plain data");
+            fnv_hex(&format!("{base_json}\n{tools}"))
+        };
         let sweep_json = serde_json::to_string(&axes).expect("the axes are plain data");
         let sweep_hash = fnv_hex(&format!("{base_hash}\n{sweep_json}"));
         Ok(Plan {
@@ -148,6 +183,7 @@ impl Plan {
             axes,
             base_hash,
             sweep_hash,
+            tool_files,
         })
     }
 

@@ -411,6 +411,16 @@ pub fn earlier_rows(
     })?;
     if lock.base_hash != plan.base_hash {
         let mut changed = crate::scene::differences(&lock.plan.base_scene, &plan.base_scene);
+        for new in &plan.tool_files {
+            let old = lock.plan.tool_files.iter().find(|o| o.key == new.key);
+            if old.is_some_and(|o| o.file == new.file && o.surface != new.surface) {
+                changed.push(format!(
+                    "{} = \"{}\": the file holds another surface than when the sweep began \
+                     (it was written anew)",
+                    new.key, new.file
+                ));
+            }
+        }
         if changed.is_empty() {
             changed.push(format!(
                 "{} with {}, now {} with {}",
