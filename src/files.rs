@@ -61,7 +61,11 @@ fn kind_name(kind: &std::fs::FileType) -> &'static str {
             return "a socket";
         }
     }
-    if kind.is_dir() { "a folder" } else { "not a regular file" }
+    if kind.is_dir() {
+        "a folder"
+    } else {
+        "not a regular file"
+    }
 }
 
 /// Writes `bytes` to `path` whole: through a temporary file in the same folder, flushed to
@@ -227,7 +231,12 @@ mod tests {
         assert!(e.to_string().contains("a folder"), "{e}");
         let path = dir.path().join("a.toml");
         std::fs::write(&path, "x".repeat(1001)).unwrap();
-        assert!(read_text(&path, 1000).unwrap_err().to_string().contains("1000 bytes"));
+        assert!(
+            read_text(&path, 1000)
+                .unwrap_err()
+                .to_string()
+                .contains("1000 bytes")
+        );
         assert_eq!(read_text(&path, 1001).unwrap().len(), 1001);
     }
 

@@ -17,7 +17,7 @@
 //! line), a malformed ASCII line (with its number), coordinates that are not finite numbers,
 //! and a surface that cannot bound a tool ([`TriSurface::check`]).
 
-use std::io::{Read, Write};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use crate::core::tools::surface::{SurfaceError, TriSurface};
@@ -591,14 +591,10 @@ pub fn to_binary(surface: &TriSurface) -> Vec<u8> {
     out
 }
 
-/// Writes the surface as binary STL (see [`to_binary`]).
+/// Writes the surface as binary STL (see [`to_binary`]), whole.
 pub fn write_binary(path: &Path, surface: &TriSurface) -> Result<(), StlError> {
-    let write = || -> std::io::Result<()> {
-        let mut file = std::io::BufWriter::new(std::fs::File::create(path)?);
-        file.write_all(&to_binary(surface))?;
-        file.flush()
-    };
-    write().map_err(|e| StlError {
+    // Whole or not at all: a full disk leaves no half a tool.
+    crate::files::write_atomic(path, &to_binary(surface)).map_err(|e| StlError {
         path: path.to_path_buf(),
         problem: StlProblem::Write(e),
     })

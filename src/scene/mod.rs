@@ -114,11 +114,14 @@ impl Scene {
             None => Scene::from_toml_str("", DEFAULT_ORIGIN, overrides),
             Some(path) => {
                 let origin = path.display().to_string();
-                let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|e| SceneError {
-                    origin: origin.clone(),
-                    key: None,
-                    detail: format!("cannot read the scene file: {e}"),
-                })?;
+                let text =
+                    crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|e| {
+                        SceneError {
+                            origin: origin.clone(),
+                            key: None,
+                            detail: format!("cannot read the scene file: {e}"),
+                        }
+                    })?;
                 Scene::from_toml_str(&text, &origin, overrides)
             }
         }

@@ -78,10 +78,11 @@ pub enum Problem {
 /// Reads a data CSV; errors name the file, the line and the column.
 pub fn read_samples(path: &Path) -> Result<Vec<Sample>, SamplesError> {
     let origin = path.display().to_string();
-    let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|e| SamplesError {
-        origin: origin.clone(),
-        problem: Problem::Unreadable(e),
-    })?;
+    let text =
+        crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|e| SamplesError {
+            origin: origin.clone(),
+            problem: Problem::Unreadable(e),
+        })?;
     parse_samples(&text, &origin)
 }
 

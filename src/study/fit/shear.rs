@@ -48,9 +48,11 @@ pub enum BiasFitError {
 /// Reads `displacement_mm,force_n` (a UTF-8 BOM allowed; other columns ignored).
 pub fn read_bias_curve(path: &Path) -> Result<Vec<BiasPoint>, BiasFitError> {
     let name = path.display().to_string();
-    let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|source| BiasFitError::Unreadable {
-        path: name.clone(),
-        source,
+    let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|source| {
+        BiasFitError::Unreadable {
+            path: name.clone(),
+            source,
+        }
     })?;
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let bad = |line: u64, what: String| BiasFitError::Bad {

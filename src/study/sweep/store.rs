@@ -82,9 +82,11 @@ pub struct Lock {
 /// Reads `dir/sweep.lock`.
 pub fn read_lock(dir: &Path) -> Result<Lock, StoreError> {
     let path = dir.join("sweep.lock");
-    let text = crate::files::read_text(&path, crate::files::MAX_TEXT_BYTES).map_err(|source| StoreError::NoLock {
-        path: path.clone(),
-        source,
+    let text = crate::files::read_text(&path, crate::files::MAX_TEXT_BYTES).map_err(|source| {
+        StoreError::NoLock {
+            path: path.clone(),
+            source,
+        }
     })?;
     serde_json::from_str(&text).map_err(|source| StoreError::BadLock { path, source })
 }
