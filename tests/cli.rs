@@ -7,9 +7,14 @@ use std::process::{Command, Output};
 
 use wovenform::core::law::{CellLaw, CellParams};
 
+/// Runs the binary in a scratch folder of this test process, so that a command's default
+/// output folder (`out/...`) lands there, not in the repository.
 fn wovenform(args: &[&str]) -> Output {
+    static SCRATCH: std::sync::OnceLock<tempfile::TempDir> = std::sync::OnceLock::new();
+    let scratch = SCRATCH.get_or_init(|| tempfile::tempdir().expect("a scratch folder"));
     Command::new(env!("CARGO_BIN_EXE_wovenform"))
         .args(args)
+        .current_dir(scratch.path())
         .output()
         .expect("the wovenform binary runs")
 }
@@ -286,7 +291,11 @@ fn fit_recovers_a_and_b_from_synthetic_curves() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("biaxial.csv");
     std::fs::write(&data, synthetic_csv()).unwrap();
-    let o = wovenform(&["fit", data.to_str().unwrap()]);
+    let o = Command::new(env!("CARGO_BIN_EXE_wovenform"))
+        .args(["fit", data.to_str().unwrap()])
+        .current_dir(dir.path())
+        .output()
+        .expect("the wovenform binary runs");
     let out = stdout(&o);
     assert_eq!(
         o.status.code(),
@@ -305,8 +314,9 @@ fn fit_recovers_a_and_b_from_synthetic_curves() {
     );
     assert_eq!(reported(&out, "points"), 200.0);
     assert!(out.contains(" mm") && out.contains(" 1/N") && out.contains("C = 38000.0 N (fixed)"));
-    // fit.png lands beside the data by default.
-    assert_png(&dir.path().join("fit.png"));
+    // By default fit.png lands in a folder of its own (out/fit-<data stem>), not beside the data.
+    assert_png(&dir.path().join("out/fit-biaxial/fit.png"));
+    assert!(!dir.path().join("fit.png").exists());
 
     // With --fit-c and --out, C comes back too.
     let out_dir = dir.path().join("fitc");
@@ -349,7 +359,13 @@ fn fit_reads_what_law_curves_writes() {
     ]);
     assert_eq!(o.status.code(), Some(0), "stderr: {}", stderr(&o));
     let csv = out.join("figure6.csv");
-    let o = wovenform(&["fit", csv.to_str().unwrap()]);
+    let fitted = out.join("fitted");
+    let o = wovenform(&[
+        "fit",
+        csv.to_str().unwrap(),
+        "--out",
+        fitted.to_str().unwrap(),
+    ]);
     let text = stdout(&o);
     assert_eq!(o.status.code(), Some(0), "{text}\nstderr: {}", stderr(&o));
     assert!((reported(&text, "A") / 0.05 - 1.0).abs() < 1e-4, "{text}");

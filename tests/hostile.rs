@@ -140,6 +140,21 @@ fn run_refuses_an_output_folder_where_it_would_write_over_its_scene() {
 }
 
 #[test]
+fn a_sweep_never_writes_over_its_own_sweep_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A sweep file is read by its contents, whatever its name: here one of the sweep's outputs.
+    let text = format!(
+        "base = {:?}\n[sweep]\nr = [5.0]\n",
+        preset("paper-box-open.toml")
+    );
+    std::fs::write(d.join("results.csv"), &text).unwrap();
+    let o = wovenform_in(d, &["sweep", "results.csv", "--out", "."]);
+    refused(&o, &["results.csv", "sweep file"]);
+    assert_eq!(bytes(&d.join("results.csv")), text.as_bytes());
+}
+
+#[test]
 fn specimens_strokes_and_fit_options_out_of_bounds_are_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -144,7 +144,7 @@ fn friction_and_process_bounds() {
     assert_rejected(
         &open,
         &["--set", "process.stroke=0"],
-        &["process.stroke = 0", "> 0 mm"],
+        &["process.stroke = 0", "at least 0.01 mm"],
     );
     assert_rejected(
         &open,

@@ -7,10 +7,11 @@ use std::path::PathBuf;
 use clap::Args;
 use indicatif::ProgressBar;
 
-use super::CliError;
 use super::progress::stderr_bar;
 use super::scene_args::{parse_accuracy, with_accuracy};
+use super::{CliError, outputs};
 use wovenform::accuracy::Accuracy;
+use wovenform::files::Input;
 use wovenform::publish;
 use wovenform::report::plural;
 use wovenform::report::sweep::table;
@@ -44,6 +45,7 @@ pub struct SweepArgs {
 
 pub fn exec(args: SweepArgs) -> Result<(), CliError> {
     let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
+    check_outputs(&plan, &args)?;
     // More workers than designs or cores would only start idle or competing threads.
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let jobs = args
@@ -211,4 +213,15 @@ fn duration(s: f64) -> String {
     } else {
         format!("{:.1} h", s / 3600.0)
     }
+}
+
+/// Refuses an output folder where the sweep's files would overwrite its sweep file, its base
+/// scene or its tools (the folder itself is checked by the sweep: another sweep's is refused).
+fn check_outputs(plan: &Plan, args: &SweepArgs) -> Result<(), CliError> {
+    let base = plan.base_file.as_deref().map(std::path::Path::new);
+    let mut inputs = outputs::scene_inputs(base, &plan.base_scene);
+    inputs.push(Input::new(&args.sweep, "the sweep file"));
+    let names = ["results.csv", "results.json", "report.png", "sweep.lock"];
+    let files = outputs::replaceable(&args.out, &names);
+    wovenform::files::check_outputs(&files, &inputs).map_err(|e| CliError::bad_input(e.to_string()))
 }
