@@ -320,3 +320,46 @@ fn a_full_disk_leaves_no_half_file() {
         );
     }
 }
+
+/// A named pipe or a device given as a scene, a sweep or a curve is refused at once (before,
+/// opening the pipe blocked forever and /dev/zero was read until memory ran out).
+#[cfg(unix)]
+#[test]
+fn special_files_as_inputs_are_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fifo = d.join("pipe.toml");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+    let pipe = fifo.to_str().unwrap();
+    for (args, words) in [
+        (vec!["run", pipe], vec!["pipe.toml", "named pipe"]),
+        (
+            vec!["sweep", pipe, "--out", "s"],
+            vec!["pipe.toml", "named pipe"],
+        ),
+        (
+            vec!["law", "--scene", pipe, "--eps1", "0", "--eps2", "0"],
+            vec!["named pipe"],
+        ),
+        (vec!["run", "/dev/zero"], vec!["/dev/zero", "device"]),
+        (vec!["fit", "/dev/zero"], vec!["/dev/zero", "device"]),
+    ] {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_wovenform"))
+            .args(&args)
+            .current_dir(d)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        while child.try_wait().unwrap().is_none() {
+            if start.elapsed().as_secs() > 20 {
+                let _ = child.kill();
+                panic!("{args:?}: still running after 20 s");
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        refused(&child.wait_with_output().unwrap(), &words);
+    }
+}
