@@ -363,3 +363,31 @@ fn special_files_as_inputs_are_refused_at_once() {
         refused(&child.wait_with_output().unwrap(), &words);
     }
 }
+
+#[test]
+fn ladders_and_repetitions_out_of_bounds_are_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let open_box = preset("paper-box-open.toml");
+    let converge = |extra: &[&str]| {
+        let args = [&["converge", &open_box, "--out", "cv"], extra].concat();
+        wovenform_in(d, &args)
+    };
+    // A rung too fine for this machine's memory (0.01 mm: 2.9e8 elements), a step count past
+    // the solver's budget, repetitions of nothing or of forever.
+    refused(
+        &converge(&["--sizes", "5,1,0.01"]),
+        &["--sizes 0.01", "memory"],
+    );
+    refused(
+        &converge(&["--steps", "4,8,1000000000"]),
+        &["--steps", "budget"],
+    );
+    for reps in ["0", "1000000000"] {
+        refused(
+            &wovenform_in(d, &["bench", "--repetitions", reps]),
+            &["--repetitions"],
+        );
+    }
+    assert!(!d.join("cv").exists(), "nothing is written");
+}

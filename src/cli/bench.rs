@@ -10,9 +10,9 @@ pub struct BenchArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// Repetitions per measurement (the median is reported).
-    #[arg(long, default_value_t = 7)]
-    pub repetitions: usize,
+    /// Repetitions per measurement (the median is reported), 1 to 99.
+    #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u16).range(1..100))]
+    pub repetitions: u16,
     /// Also compare ways of resolving friction within a load step (implicit with the exact or
     /// the symmetric Jacobian, lagged, lagged to a fixed point) on the open box.
     #[arg(long)]
@@ -25,7 +25,7 @@ pub struct BenchArgs {
 
 /// `wovenform bench`: law and element throughput, one thread.
 pub fn exec(args: BenchArgs) -> Result<(), CliError> {
-    let reps = args.repetitions.max(1);
+    let reps = usize::from(args.repetitions);
     let note = |what: &str| {
         if !args.json {
             eprintln!("measuring {what} …");

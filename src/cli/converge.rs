@@ -53,6 +53,19 @@ pub fn exec(args: ConvergeArgs) -> Result<(), CliError> {
         args.steps.clone()
     };
     study::check_sizes(&sizes).map_err(|e| CliError::bad_input(e.to_string()))?;
+    // Each rung is the scene at its element size: checked against the scene's bounds (and this
+    // machine's memory) before any rung is solved.
+    for size in &sizes {
+        let set_size = format!("mesh.element_size={size}");
+        let rung = SceneArgs {
+            scene: Some(args.scene.clone()),
+            set: [args.set.clone(), vec![set_size.clone()]].concat(),
+        };
+        rung.load().map_err(|e| {
+            let why = e.message.replace(&format!("--set {set_size}: "), "");
+            CliError::bad_input(format!("--sizes {size}: {why}"))
+        })?;
+    }
     study::check_steps(&counts).map_err(|e| CliError::bad_input(e.to_string()))?;
     let files = outputs::replaceable(&args.out, &["converge.csv", "converge.png"]);
     let inputs = outputs::scene_inputs(Some(&args.scene), &scene);

@@ -73,7 +73,7 @@ pub enum LadderError {
     OutOfRange {
         option: &'static str,
         shown: String,
-        what: &'static str,
+        what: String,
     },
 }
 
@@ -93,7 +93,7 @@ pub fn check_sizes(sizes_mm: &[f64]) -> Result<(), LadderError> {
         return Err(LadderError::OutOfRange {
             option,
             shown: shown(sizes_mm),
-            what: "element sizes > 0 mm",
+            what: "element sizes > 0 mm".into(),
         });
     }
     if sizes_mm.len() < 3 {
@@ -120,11 +120,13 @@ pub fn check_sizes(sizes_mm: &[f64]) -> Result<(), LadderError> {
 pub fn check_steps(counts: &[u32]) -> Result<(), LadderError> {
     let (option, example) = ("--steps", "4,8,16");
     let order = "step counts few to many";
-    if counts.contains(&0) {
+    // More steps than the solver's budget could never reach the end of the stroke.
+    let budget = crate::core::solver::SolverOptions::default().max_steps;
+    if counts.iter().any(|&n| n == 0 || n > budget) {
         return Err(LadderError::OutOfRange {
             option,
             shown: shown(counts),
-            what: "step counts ≥ 1",
+            what: format!("step counts from 1 to {budget} (the solver's budget of accepted steps)"),
         });
     }
     if counts.len() < 3 {
