@@ -263,3 +263,15 @@ fn unsign_zeros(v: &mut serde_json::Value) {
         _ => {}
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn no_negative_zero_is_written() {
+        let mut v = serde_json::json!({"f": -0.0, "a": [-0.0, 1.5, -2.0], "t": {"g": -0.0}});
+        super::unsign_zeros(&mut v);
+        let text = v.to_string();
+        assert!(!text.contains("-0"), "{text}");
+        assert!(text.contains("-2.0") && text.contains("1.5"), "{text}");
+    }
+}

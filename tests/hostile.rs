@@ -216,6 +216,19 @@ fn a_long_value_is_quoted_as_an_excerpt() {
         refused(&o, &["--set", "characters"]);
         assert!(o.stderr.len() < 1500, "{} bytes of message", o.stderr.len());
     }
+    // In a scene file: a long value, and a tool path no file system takes.
+    for (name, text) in [
+        ("a.toml", format!("[fabric]\na = \"{big}\"\n")),
+        (
+            "p.toml",
+            format!("[tools]\nkind = \"mesh\"\npunch = \"{big}\"\ndie = \"d.stl\"\n"),
+        ),
+    ] {
+        std::fs::write(dir.path().join(name), text).unwrap();
+        let o = wovenform_in(dir.path(), &["run", name]);
+        refused(&o, &[name, "characters"]);
+        assert!(o.stderr.len() < 1500, "{} bytes of message", o.stderr.len());
+    }
 }
 
 #[test]

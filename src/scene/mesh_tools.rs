@@ -203,6 +203,19 @@ impl Scene {
             element_mm: self.mesh.element_size,
             stroke_mm: self.process.stroke,
         };
+        // A path no file system takes (PATH_MAX is 4096 bytes) is refused before it is quoted
+        // back or looked up.
+        for (key, file) in [("tools.punch", &t.punch), ("tools.die", &t.die)] {
+            if file.len() > 4096 {
+                let detail = format!(
+                    "{key} = \"{}\": a path of {} bytes; expected the path of an STL file \
+                     (at most 4096 bytes)",
+                    super::overrides::excerpt(file),
+                    file.len()
+                );
+                return Err(fail(key, &[key], detail));
+            }
+        }
         let read = |file: &str, role| tool(&resolve(origin, file), role, t.lattice, &setting);
         // The two files are read side by side.
         let (punch, die) = rayon::join(|| read(&t.punch, Role::Punch), || read(&t.die, Role::Die));
