@@ -208,18 +208,7 @@ fn a_punch_through_itself_is_refused_naming_it_and_where() {
     // The hemisphere and a block overlapping its top: two solids in one file.
     let mut soup = punch.soup();
     let (lo, hi) = ([-10.0, -10.0, 20.0], [10.0, 10.0, 40.0]);
-    let v = |i: usize| [0, 1, 2].map(|a| if (i >> a) & 1 == 0 { lo[a] } else { hi[a] });
-    for q in [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ] {
-        soup.push([v(q[0]), v(q[1]), v(q[2])]);
-        soup.push([v(q[0]), v(q[2]), v(q[3])]);
-    }
+    soup.extend(wovenform::core::tools::surface::box_soup(lo, hi));
     write_binary(&d.join("two.stl"), &TriSurface::from_soup(&soup).unwrap()).unwrap();
     let s = scene(d, "two.stl", "die.stl", 120.0, "");
     let err = refused(

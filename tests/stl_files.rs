@@ -9,19 +9,7 @@ use wovenform::stl::{parse, read_soup, read_surface, to_binary, write_binary};
 
 /// A cube of side 10 mm at the origin: 12 triangles facing out.
 fn cube() -> TriSurface {
-    let v = |i: usize| [0, 1, 2].map(|a| 10.0 * ((i >> a) & 1) as f64);
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let soup: Vec<_> = quads
-        .iter()
-        .flat_map(|q| [[v(q[0]), v(q[1]), v(q[2])], [v(q[0]), v(q[2]), v(q[3])]])
-        .collect();
+    let soup = wovenform::core::tools::surface::box_soup([0.0; 3], [10.0; 3]);
     TriSurface::from_soup(&soup).unwrap()
 }
 

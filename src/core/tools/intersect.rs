@@ -382,21 +382,8 @@ pub fn degenerate_triangle(surface: &TriSurface) -> Option<(usize, [f64; 3])> {
 mod tests {
     use super::*;
 
-    /// An axis-aligned box's 12 triangles, facing out.
     fn cuboid(lo: [f64; 3], hi: [f64; 3]) -> Vec<[[f64; 3]; 3]> {
-        let v = |i: usize| [0, 1, 2].map(|a| if (i >> a) & 1 == 0 { lo[a] } else { hi[a] });
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        quads
-            .iter()
-            .flat_map(|q| [[v(q[0]), v(q[1]), v(q[2])], [v(q[0]), v(q[2]), v(q[3])]])
-            .collect()
+        super::super::surface::box_soup(lo, hi)
     }
 
     fn surface(soup: &[[[f64; 3]; 3]]) -> TriSurface {

@@ -124,19 +124,8 @@ mod tests {
     use super::*;
 
     fn cuboid(lo: [f64; 3], hi: [f64; 3], outward: bool) -> Vec<[[f64; 3]; 3]> {
-        let v = |i: usize| [0, 1, 2].map(|a| if (i >> a) & 1 == 0 { lo[a] } else { hi[a] });
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        quads
-            .iter()
-            .flat_map(|q| [[v(q[0]), v(q[1]), v(q[2])], [v(q[0]), v(q[2]), v(q[3])]])
-            .map(|t| if outward { t } else { [t[0], t[2], t[1]] })
+        let soup = super::super::surface::box_soup(lo, hi).into_iter();
+        soup.map(|t| if outward { t } else { [t[0], t[2], t[1]] })
             .collect()
     }
 
