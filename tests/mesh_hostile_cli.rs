@@ -4,21 +4,17 @@
 //! naming the key and the file, quickly (before any solving, never by a crash), and a run
 //! that cannot end is not waited on.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use wovenform::core::tools::surface::TriSurface;
-use wovenform::stl::{read_surface, write_binary};
+use wovenform::stl::write_binary;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_wovenform"))
-}
-
-fn preset(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("presets")
-        .join(name)
 }
 
 /// Runs `cmd` in `dir`, killed after `limit` (then the test fails).
@@ -45,24 +41,8 @@ fn within(mut cmd: Command, dir: &Path, limit: Duration) -> (Output, Duration) {
     (child.wait_with_output().unwrap(), start.elapsed())
 }
 
-/// The analytic tools of `scene` (with `sets`) written as STL into `dir`.
 fn tools(scene: &str, sets: &[&str], spacing: &str, dir: &Path) -> (TriSurface, TriSurface) {
-    let mut cmd = bin();
-    cmd.arg("tools").arg(preset(scene)).arg("--out").arg(dir);
-    cmd.args(["--spacing", spacing]);
-    for s in sets {
-        cmd.args(["--set", s]);
-    }
-    let out = cmd.output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    (
-        read_surface(&dir.join("punch.stl")).unwrap(),
-        read_surface(&dir.join("die.stl")).unwrap(),
-    )
+    common::written_tools(scene, sets, spacing, dir)
 }
 
 /// A mesh scene in `dir`: `punch` and `die` (relative paths), blank `blank` mm, 20 mm of

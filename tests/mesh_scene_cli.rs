@@ -1,6 +1,8 @@
 //! Scenes with STL tools through the binary: a good one runs; each bad tool file or placement
 //! is refused with exit code 2 before any solving, naming the file and what is wrong.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -11,30 +13,9 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_wovenform"))
 }
 
-fn preset(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("presets")
-        .join(name)
-}
-
 /// The analytic tools of `scene` (with `sets`) written as STL into `dir`, 2 mm triangles.
 fn tools(scene: &str, sets: &[&str], dir: &Path) -> (TriSurface, TriSurface) {
-    let mut cmd = bin();
-    cmd.arg("tools").arg(preset(scene)).arg("--out").arg(dir);
-    cmd.args(["--spacing", "2"]);
-    for s in sets {
-        cmd.args(["--set", s]);
-    }
-    let out = cmd.output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    (
-        read_surface(&dir.join("punch.stl")).unwrap(),
-        read_surface(&dir.join("die.stl")).unwrap(),
-    )
+    common::written_tools(scene, sets, "2", dir)
 }
 
 /// A mesh scene in `dir` naming `punch` and `die` (relative paths), blank `blank` mm.

@@ -46,3 +46,31 @@ pub fn wovenform_in(dir: &Path, args: &[&str]) -> Output {
 pub fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
+
+/// The analytic tools of the preset `scene` (with `sets`) written as STL into `dir` by
+/// `wovenform tools` on a grid of `spacing` mm, and read back.
+pub fn written_tools(
+    scene: &str,
+    sets: &[&str],
+    spacing: &str,
+    dir: &Path,
+) -> (
+    wovenform::core::tools::surface::TriSurface,
+    wovenform::core::tools::surface::TriSurface,
+) {
+    let scene = preset(scene);
+    let mut args = vec![
+        "tools",
+        &scene,
+        "--out",
+        dir.to_str().expect("a UTF-8 path"),
+    ];
+    args.extend(["--spacing", spacing]);
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let out = wovenform_in(dir, &args);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let read = |name: &str| wovenform::stl::read_surface(&dir.join(name)).unwrap();
+    (read("punch.stl"), read("die.stl"))
+}
