@@ -58,6 +58,7 @@ pub fn written_tools(
     wovenform::core::tools::surface::TriSurface,
     wovenform::core::tools::surface::TriSurface,
 ) {
+    std::fs::create_dir_all(dir).expect("the tools' folder");
     let scene = preset(scene);
     let mut args = vec![
         "tools",
