@@ -404,3 +404,37 @@ fn ladders_and_repetitions_out_of_bounds_are_refused_at_once() {
     }
     assert!(!d.join("cv").exists(), "nothing is written");
 }
+
+/// Found by a second hostile pass: a user's summary.json in --out, a stroke deeper than the
+/// blank, a path of 120 kB quoted back, standard output that cannot be written.
+#[test]
+fn a_second_pass_of_hostile_cases() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let open_box = preset("paper-box-open.toml");
+    std::fs::create_dir(d.join("u")).unwrap();
+    std::fs::write(d.join("u/summary.json"), "mine").unwrap();
+    let o = wovenform_in(d, &["run", &open_box, "--out", "u"]);
+    refused(&o, &["u/summary.json", "did not write"]);
+    assert_eq!(bytes(&d.join("u/summary.json")), b"mine");
+    let deep = wovenform_in(d, &["run", &open_box, "--set", "process.stroke=1e20"]);
+    refused(&deep, &["process.stroke = 1e20", "longest side"]);
+    let long = vec!["d".repeat(200); 600].join("/");
+    let o = wovenform_in(d, &["run", &long]);
+    assert_eq!(code(&o), Some(2));
+    assert!(o.stderr.len() < 3000, "{} bytes of message", o.stderr.len());
+    let full = std::fs::File::create("/dev/full");
+    if let Ok(full) = full {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_wovenform"))
+            .args(["law", "--eps1", "0", "--eps2", "0"])
+            .stdout(full)
+            .output()
+            .unwrap();
+        let err = text(&o.stderr);
+        assert_eq!(code(&o), Some(1), "{err}");
+        assert!(
+            err.contains("standard output") && !err.contains("panicked"),
+            "{err}"
+        );
+    }
+}

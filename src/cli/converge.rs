@@ -67,7 +67,12 @@ pub fn exec(args: ConvergeArgs) -> Result<(), CliError> {
         })?;
     }
     study::check_steps(&counts).map_err(|e| CliError::bad_input(e.to_string()))?;
-    let files = outputs::replaceable(&args.out, &["converge.csv", "converge.png"]);
+    let mut files = outputs::replaceable(&args.out, &["converge.png"]);
+    let csv = args.out.join("converge.csv");
+    files.push(wovenform::files::Output::owned_if(
+        csv,
+        outputs::CONVERGE_CSV_HEAD,
+    ));
     let inputs = outputs::scene_inputs(Some(&args.scene), &scene);
     outputs::prepare(&args.out, &files, &inputs)?;
     let total = (sizes.len() + counts.len()) as u64;

@@ -72,7 +72,12 @@ pub fn exec(args: LawArgs) -> Result<(), CliError> {
             .out
             .as_deref()
             .expect("clap requires --out with --curves");
-        let files = outputs::replaceable(out, &["figure6.csv", "figure6.png"]);
+        let mut files = outputs::replaceable(out, &["figure6.png"]);
+        let csv = out.join("figure6.csv");
+        files.push(wovenform::files::Output::owned_if(
+            csv,
+            outputs::FIGURE6_CSV_HEAD,
+        ));
         let inputs = outputs::scene_inputs(args.scene.scene.as_deref(), &scene);
         outputs::prepare(out, &files, &inputs)?;
         let written = write_figure6(params, out)?;

@@ -13,6 +13,12 @@ use wovenform::scene::ToolKind;
 pub const BIAS_CSV_HEAD: &[u8] = b"displacement_mm,force_n,shear_centre_deg\n";
 /// The first bytes of the `fabric.toml` that `fit --bias` writes.
 pub const FABRIC_TOML_HEAD: &[u8] = b"# The fabric of ";
+/// The first bytes of the `summary.json` that `run` writes.
+pub const SUMMARY_JSON_HEAD: &[u8] = b"{\n  \"scene\": ";
+/// The first bytes of `figure6.csv` (`law --curves`).
+pub const FIGURE6_CSV_HEAD: &[u8] = b"k,eps1,eps2,";
+/// The first bytes of `converge.csv`.
+pub const CONVERGE_CSV_HEAD: &[u8] = b"ladder,element_size_mm,";
 /// The first bytes of every binary STL that wovenform writes.
 pub const STL_HEAD: &[u8] = b"binary STL written by wovenform";
 

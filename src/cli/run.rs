@@ -48,7 +48,11 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
     // The output folder is checked before the solve, so a bad one costs nothing.
     let dir = args.out.unwrap_or_else(|| Path::new("out").join(&name));
     let inputs = outputs::scene_inputs(Some(&args.scene), &scene);
-    let files = outputs::replaceable(&dir, &wovenform::publish::RUN_FILES);
+    let mut files = outputs::replaceable(&dir, &wovenform::publish::RUN_FILES[1..]);
+    files.push(wovenform::files::Output::owned_if(
+        dir.join("summary.json"),
+        outputs::SUMMARY_JSON_HEAD,
+    ));
     outputs::prepare(&dir, &files, &inputs)?;
     let problem = scene.to_problem();
     let bar = stroke_bar(problem.stroke);

@@ -144,8 +144,27 @@ pub(super) fn apply_override(table: &mut toml::Table, o: &Override) -> Result<()
             }
         };
     }
-    t.insert(last.to_string(), o.value.clone());
+    // A table (`--set 'process={stroke=3}'`) sets its keys over the file's, as one --set each
+    // would: it never drops the keys it does not name.
+    match (t.get_mut(*last), &o.value) {
+        (Some(toml::Value::Table(old)), toml::Value::Table(new)) => merge_into(old, new),
+        _ => {
+            t.insert(last.to_string(), o.value.clone());
+        }
+    }
     Ok(())
+}
+
+/// `over`'s keys into `base`, tables merged key by key.
+fn merge_into(base: &mut toml::Table, over: &toml::Table) {
+    for (k, v) in over {
+        match (base.get_mut(k), v) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge_into(b, o),
+            _ => {
+                base.insert(k.clone(), v.clone());
+            }
+        }
+    }
 }
 
 /// Turns a serde error at `path` into a message naming the key and the expectation.
@@ -193,6 +212,15 @@ pub(super) fn structural_error(
 mod tests {
     use super::super::parse;
     use super::*;
+
+    #[test]
+    fn a_table_sets_its_keys_and_keeps_the_files_others() {
+        let file = "[process]\nfriction = 0.4\nholder_pressure = 3.0\n";
+        let s = parse(file, &["process={stroke=3.0}"]).unwrap();
+        assert_eq!(s.process.stroke, 3.0);
+        assert_eq!(s.process.friction, 0.4);
+        assert_eq!(s.process.holder_pressure, 3.0);
+    }
 
     #[test]
     fn overrides_apply_in_order() {

@@ -262,6 +262,19 @@ impl Scene {
                         could set, and its work is within the solver's tolerance)";
             broken("process.stroke", Num(p.stroke), what)
         })?;
+        // Deeper than the blank is long, no part could be drawn from it.
+        let longest = self.blank.size.0[0].max(self.blank.size.0[1]);
+        ok_if(p.stroke <= longest, || {
+            broken_with(
+                &["process.stroke", "blank.size"],
+                format!(
+                    "process.stroke = {}: expected a stroke at most the blank's longest side, \
+                     {} mm (a deeper part cannot be drawn from this blank)",
+                    Num(p.stroke),
+                    Num(longest)
+                ),
+            )
+        })?;
         let t = &self.tools;
         let Some(depth) = t.punch_depth() else {
             return Ok(());
