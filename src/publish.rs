@@ -154,7 +154,7 @@ pub fn write_run(
             .files
             .insert(kind.to_string(), path.display().to_string());
     }
-    let text = serde_json::to_string_pretty(&summary.to_value()).expect("plain data");
+    let text = serde_json::to_string_pretty(&*summary).expect("the summary is plain data");
     write_atomic(&json, (text + "\n").as_bytes()).map_err(io(&json, "write the summary"))?;
     Ok(written)
 }

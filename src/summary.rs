@@ -210,14 +210,7 @@ impl RunSummary {
 
     /// One JSON object on one line.
     pub fn to_json(&self) -> String {
-        serde_json::to_string(&self.to_value()).expect("the summary is plain data")
-    }
-
-    /// The summary as JSON, every -0.0 written 0 (as people write it).
-    pub fn to_value(&self) -> serde_json::Value {
-        let mut v = serde_json::to_value(self).expect("the summary is plain data");
-        unsign_zeros(&mut v);
-        v
+        serde_json::to_string(self).expect("the summary is plain data")
     }
 }
 
@@ -250,28 +243,4 @@ pub fn shear_subtitle(result: &DrawingResult, stroke_mm: f64) -> String {
         "Shear angle of the yarns: {}",
         what_is_drawn(result, stroke_mm)
     )
-}
-
-/// Turns every -0.0 in `v` into 0.
-fn unsign_zeros(v: &mut serde_json::Value) {
-    match v {
-        serde_json::Value::Number(n) if n.as_f64() == Some(0.0) && n.is_f64() => {
-            *v = serde_json::json!(0.0);
-        }
-        serde_json::Value::Array(a) => a.iter_mut().for_each(unsign_zeros),
-        serde_json::Value::Object(o) => o.values_mut().for_each(unsign_zeros),
-        _ => {}
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn no_negative_zero_is_written() {
-        let mut v = serde_json::json!({"f": -0.0, "a": [-0.0, 1.5, -2.0], "t": {"g": -0.0}});
-        super::unsign_zeros(&mut v);
-        let text = v.to_string();
-        assert!(!text.contains("-0"), "{text}");
-        assert!(text.contains("-2.0") && text.contains("1.5"), "{text}");
-    }
 }
