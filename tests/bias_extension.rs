@@ -1,7 +1,7 @@
 //! The bias-extension test (`wovenform bias`) against the ideal kinematics of a pin-jointed
-//! net of inextensible yarns (`../shared/notes/verification.md`, "In-plane shear"), and the
+//! net of inextensible yarns (README, "In-plane shear stiffness (beyond the paper)"), and the
 //! shear law's fit (`wovenform fit --bias`) against a curve made by a known law and against the
-//! measured curve of `../shared/data/bias_extension/`.
+//! measured curve in `data/bias_extension/` (its source in `data/bias_extension/README.md`).
 
 use std::f64::consts::{FRAC_PI_2, SQRT_2};
 use std::path::Path;
