@@ -1,6 +1,8 @@
 //! STL files as a user hands them over: binary and ASCII read back what was written, and each
 //! kind of bad file is refused with a message that names the file and what is wrong with it.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use wovenform::core::tools::surface::TriSurface;
@@ -34,19 +36,10 @@ fn file(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
 
 /// The message of reading `path`, which must fail; it names the file.
 fn refusal(path: &Path) -> String {
-    let message = read_surface(path).unwrap_err().to_string();
-    assert!(
-        message.contains(&path.display().to_string()),
-        "the file is not named: {message}"
-    );
-    message
+    common::stl_refusal(path)
 }
 
-fn assert_says(message: &str, words: &[&str]) {
-    for w in words {
-        assert!(message.contains(w), "`{w}` not in: {message}");
-    }
-}
+use common::assert_says;
 
 #[test]
 fn binary_round_trip_keeps_the_surface() {

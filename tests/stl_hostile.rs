@@ -3,9 +3,10 @@
 //! (passing through themselves, one solid inside another, a triangle with no area). Each is
 //! refused with a message naming the file and saying what it is, without hanging.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use wovenform::core::tools::intersect::self_intersection;
 use wovenform::core::tools::surface::TriSurface;
@@ -55,29 +56,11 @@ fn file(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     path
 }
 
-/// The message of reading `path`, which must fail within 20 s, naming the file.
 fn refusal(path: &Path) -> String {
-    let (tx, rx) = mpsc::channel();
-    let p = path.to_path_buf();
-    std::thread::spawn(move || {
-        let _ = tx.send(read_surface(&p).map(|_| ()).map_err(|e| e.to_string()));
-    });
-    let message = rx
-        .recv_timeout(Duration::from_secs(20))
-        .unwrap_or_else(|_| panic!("reading {} did not end within 20 s", path.display()))
-        .expect_err("the file must be refused");
-    assert!(
-        message.contains(&path.display().to_string()),
-        "the file is not named: {message}"
-    );
-    message
+    common::stl_refusal(path)
 }
 
-fn assert_says(message: &str, words: &[&str]) {
-    for w in words {
-        assert!(message.contains(w), "`{w}` not in: {message}");
-    }
-}
+use common::assert_says;
 
 #[test]
 fn what_is_not_a_regular_file_is_refused_without_reading_it() {

@@ -62,7 +62,7 @@ use crate::core::law::CellParams;
 
 pub use keys::{differences, lookup, unset_key_shape};
 pub use mesh_tools::forget_mesh_tools;
-pub use overrides::Override;
+pub use overrides::{Override, merge_tables};
 pub use types::{
     Blank, DEFAULT_BOX_RADII, Fabric, MeshSettings, Num, Numerics, PerYarn, PlanPair, Process,
     SymmetryChoice, ToolKind, Tools,

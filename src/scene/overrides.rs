@@ -147,7 +147,7 @@ pub(super) fn apply_override(table: &mut toml::Table, o: &Override) -> Result<()
     // A table (`--set 'process={stroke=3}'`) sets its keys over the file's, as one --set each
     // would: it never drops the keys it does not name.
     match (t.get_mut(*last), &o.value) {
-        (Some(toml::Value::Table(old)), toml::Value::Table(new)) => merge_into(old, new),
+        (Some(toml::Value::Table(old)), toml::Value::Table(new)) => merge_tables(old, new),
         _ => {
             t.insert(last.to_string(), o.value.clone());
         }
@@ -155,11 +155,12 @@ pub(super) fn apply_override(table: &mut toml::Table, o: &Override) -> Result<()
     Ok(())
 }
 
-/// `over`'s keys into `base`, tables merged key by key.
-fn merge_into(base: &mut toml::Table, over: &toml::Table) {
+/// Deep merge: `over`'s keys replace `base`'s, tables merged key by key (a `--set` table, a
+/// sweep's inline `[scene]` over its base file).
+pub fn merge_tables(base: &mut toml::Table, over: &toml::Table) {
     for (k, v) in over {
         match (base.get_mut(k), v) {
-            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge_into(b, o),
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge_tables(b, o),
             _ => {
                 base.insert(k.clone(), v.clone());
             }

@@ -75,3 +75,30 @@ pub fn written_tools(
     let read = |name: &str| wovenform::stl::read_surface(&dir.join(name)).unwrap();
     (read("punch.stl"), read("die.stl"))
 }
+
+/// The message of reading the STL at `path` as a tool, which must fail within 20 s (a file
+/// that blocks fails the test rather than hanging it), naming the file.
+pub fn stl_refusal(path: &Path) -> String {
+    let (tx, rx) = std::sync::mpsc::channel();
+    let p = path.to_path_buf();
+    std::thread::spawn(move || {
+        let read = wovenform::stl::read_surface(&p);
+        let _ = tx.send(read.map(|_| ()).map_err(|e| e.to_string()));
+    });
+    let message = rx
+        .recv_timeout(std::time::Duration::from_secs(20))
+        .unwrap_or_else(|_| panic!("reading {} did not end within 20 s", path.display()))
+        .expect_err("the file must be refused");
+    assert!(
+        message.contains(&path.display().to_string()),
+        "the file is not named: {message}"
+    );
+    message
+}
+
+/// Asserts that `message` holds each of `words`.
+pub fn assert_says(message: &str, words: &[&str]) {
+    for w in words {
+        assert!(message.contains(w), "`{w}` not in: {message}");
+    }
+}

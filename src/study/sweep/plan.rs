@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::SweepError;
 use super::values::{as_number, fnv_hex, show_value};
-use crate::scene::{Override, Scene, lookup, unset_key_shape};
+use crate::scene::{Override, Scene, lookup, merge_tables, unset_key_shape};
 
 /// The box's five short names and the scene keys they stand for, in grid order.
 pub const SHORT_NAMES: [(&str, &str); 5] = [
@@ -74,18 +74,6 @@ fn tool_files(scene: &Scene) -> Vec<ToolFile> {
             surface: format!("{:016x}", tool.fingerprint()),
         })
         .collect()
-}
-
-/// Deep merge: `over`'s keys replace `base`'s, tables merged key by key.
-fn merge_tables(base: &mut toml::Table, over: &toml::Table) {
-    for (k, v) in over {
-        match (base.get_mut(k), v) {
-            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge_tables(b, o),
-            _ => {
-                base.insert(k.clone(), v.clone());
-            }
-        }
-    }
 }
 
 /// A `[sweep]` entry is a range when it is a table with any of these keys.
