@@ -1,7 +1,7 @@
 //! The bias-extension test (`wovenform bias`) against the ideal kinematics of a pin-jointed
 //! net of inextensible yarns (README, "In-plane shear stiffness (beyond the paper)"), and the
 //! shear law's fit (`wovenform fit --bias`) against a curve made by a known law and against the
-//! measured curve in `data/bias_extension/` (its source in `data/bias_extension/README.md`).
+//! measured curve in `presets/bias-extension/` (its source in `presets/bias-extension/README.md`).
 
 use std::f64::consts::{FRAC_PI_2, SQRT_2};
 use std::path::Path;
@@ -240,7 +240,7 @@ fn the_measured_glass_curve_is_fitted_within_twenty_percent() {
     // The benchmark's 115 × 230 mm glass curve, fitted on the ideal kinematics (no refining
     // pass, to keep the test short): RMS relative residual from 3 mm to 60° of central shear.
     let data =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("data/bias_extension/glass_plain_115x230.csv");
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/bias-extension/glass_plain_115x230.csv");
     let dir = tempfile::tempdir().unwrap();
     let out = wovenform(&[
         "fit",

@@ -11,7 +11,7 @@ use std::process::Output;
 use common::{preset, text, wovenform_in};
 
 fn measured_curve() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/bias_extension/glass_plain_115x230.csv")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/bias-extension/glass_plain_115x230.csv")
 }
 
 fn code(o: &Output) -> Option<i32> {
