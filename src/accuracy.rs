@@ -33,7 +33,8 @@ pub enum Accuracy {
     Fine,
 }
 
-/// What a level costs and what it is worth on the paper box.
+/// What a level is worth: how far its figures can be off (what it costs, in run time, is
+/// [`crate::study::estimate::run_seconds`] on this machine, or `wovenform bench`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ErrorEstimate {
     /// Error of the maximum shear angle, degrees.
@@ -42,8 +43,6 @@ pub struct ErrorEstimate {
     pub punch_force_pct: f64,
     /// Relative error of the maximum yarn tension, %.
     pub max_tension_pct: f64,
-    /// Wall time of the open box on one core, s (what the level costs).
-    pub open_box_wall_s: f64,
 }
 
 impl Accuracy {
@@ -123,34 +122,19 @@ impl Accuracy {
                 max_shear_deg: 3.5,
                 punch_force_pct: 15.0,
                 max_tension_pct: 160.0,
-                open_box_wall_s: 0.07,
             },
             Accuracy::Standard => ErrorEstimate {
                 max_shear_deg: 1.2,
                 punch_force_pct: 5.0,
                 max_tension_pct: 35.0,
-                open_box_wall_s: 0.42,
             },
             Accuracy::Fine => ErrorEstimate {
                 max_shear_deg: 0.6,
                 punch_force_pct: 2.5,
                 max_tension_pct: 15.0,
-                open_box_wall_s: 3.0,
             },
         }
     }
-}
-
-/// A rough wall time of one run on one core, s, before it starts: the mean design of the
-/// paper-box preset sweep at standard (0.8 s for the 1,156 elements of the solved quarter; the
-/// open box 0.45 s, the tight one 1 s) scaled by the solved elements to the power 1.4
-/// (`bench`: wall time ∝ dofs^1.4) and by the stroke. A figure for a sweep's announcement,
-/// not a promise: the radii alone move it by a factor of two.
-pub fn run_seconds_estimate(scene: &crate::scene::Scene) -> f64 {
-    let p = scene.to_problem();
-    let parts = if p.quarter_applies() { 4.0 } else { 1.0 };
-    let elements = p.blank[0] * p.blank[1] / (p.element_size * p.element_size) / parts;
-    0.8 * (elements / 1156.0).powf(1.4) * (p.stroke / 28.0).max(0.1)
 }
 
 impl std::fmt::Display for Accuracy {
@@ -194,11 +178,5 @@ mod tests {
         let small = Accuracy::Standard.error_for(2.0);
         assert!((small.max_shear_deg - 3.0).abs() < 1e-12);
         assert!((small.punch_force_pct - 12.5).abs() < 1e-12);
-        // The run-time estimate grows with the elements: a fine mesh has four times as many.
-        let scene = crate::scene::Scene::from_toml_str("", "test", &[]).unwrap();
-        let mut fine = scene.clone();
-        fine.mesh.element_size = 1.25;
-        let ratio = run_seconds_estimate(&fine) / run_seconds_estimate(&scene);
-        assert!((ratio - 4f64.powf(1.4)).abs() < 1e-9, "{ratio}");
     }
 }

@@ -39,6 +39,7 @@ pub mod presets;
 pub mod publish;
 pub mod report;
 pub mod scene;
+pub mod show;
 pub mod stl;
 pub mod study;
 pub mod summary;

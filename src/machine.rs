@@ -2,7 +2,7 @@
 //! drawing fits in it.
 
 use crate::core::drawing::DrawingProblem;
-use crate::scene::Num;
+use crate::show::{Num, show_bytes};
 
 /// The memory one run may take, bytes: 80 % of what the system reported available
 /// (`MemAvailable` in `/proc/meminfo`) when first asked, or of 10 GiB where it does not say.
@@ -100,37 +100,12 @@ pub fn check_fits_among(problem: &DrawingProblem, budget: f64, runs: usize) -> R
     })
 }
 
-/// Bytes as a person reads them: `712 MiB`, `21.3 GiB`, `2.1e4 TiB`.
-pub fn show_bytes(bytes: f64) -> String {
-    let units = [
-        ("TiB", GIB * 1024.0),
-        ("GiB", GIB),
-        ("MiB", 1024.0 * 1024.0),
-    ];
-    for (name, size) in units {
-        if bytes >= size {
-            let v = bytes / size;
-            return if v >= 1e4 {
-                format!("{v:.1e} {name}")
-            } else if v >= 100.0 {
-                format!("{v:.0} {name}")
-            } else {
-                format!("{v:.1} {name}")
-            };
-        }
-    }
-    format!("{:.0} KiB", bytes / 1024.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn bytes_read_as_a_person_reads_them() {
-        assert_eq!(show_bytes(712.0 * 1024.0 * 1024.0), "712 MiB");
-        assert_eq!(show_bytes(21.3 * GIB), "21.3 GiB");
-        assert_eq!(show_bytes(2.1e4 * 1024.0 * GIB), "2.1e4 TiB");
+    fn the_budget_is_positive() {
         assert!(memory_budget_bytes() > 0.0);
     }
 

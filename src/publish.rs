@@ -84,25 +84,6 @@ pub const RUN_FILES: [&str; 6] = [
     "result.vtu",
 ];
 
-/// Makes `dir` ready for [`write_run`] before any solving: the folder created, writable, and
-/// none of the run's files in it a folder. Errors name the path and what is wrong.
-pub fn prepare_run_dir(dir: &Path) -> Result<(), PublishError> {
-    std::fs::create_dir_all(dir).map_err(io(dir, "create the output folder"))?;
-    tempfile::NamedTempFile::new_in(dir).map_err(io(dir, "write into the output folder"))?;
-    for name in RUN_FILES {
-        let path = dir.join(name);
-        if path.is_dir() {
-            return Err(StoreError::Io {
-                path,
-                action: "write the run's file",
-                source: std::io::Error::other("a folder of that name is in the way"),
-            }
-            .into());
-        }
-    }
-    Ok(())
-}
-
 /// Writes `shear.png`, `tension.png`, their developed views (`shear_developed.png`,
 /// `tension_developed.png`: on the flat blank), `result.vtu` and `summary.json` into `dir`
 /// (created if needed), records them in `summary.files`, and returns their paths. Errors name the file.
@@ -234,4 +215,10 @@ pub fn write_bias(
     let map = dir.join("shear.png");
     bias::shear_map(problem, result, locking_angle_deg).write_png(&map)?;
     Ok(vec![csv_path, png, map])
+}
+
+/// Writes `text` whole into `path`; returns the path.
+pub fn write_text(path: &Path, text: &str) -> Result<PathBuf, PublishError> {
+    write_atomic(path, text.as_bytes()).map_err(io(path, "write"))?;
+    Ok(path.to_path_buf())
 }

@@ -242,8 +242,8 @@ fn check_memory(head: &[u8], bytes: u64) -> Result<(), StlProblem> {
     if need > budget {
         return Err(StlProblem::OverMemory {
             triangles,
-            need: crate::machine::show_bytes(need),
-            limit: crate::machine::show_bytes(budget),
+            need: crate::show::show_bytes(need),
+            limit: crate::show::show_bytes(budget),
         });
     }
     Ok(())

@@ -239,8 +239,8 @@ fn a_fit_gets_back_the_law_that_made_a_curve_and_its_fabric_runs() {
 fn the_measured_glass_curve_is_fitted_within_twenty_percent() {
     // The benchmark's 115 × 230 mm glass curve, fitted on the ideal kinematics (no refining
     // pass, to keep the test short): RMS relative residual from 3 mm to 60° of central shear.
-    let data =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/bias-extension/glass_plain_115x230.csv");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("presets/bias-extension/glass_plain_115x230.csv");
     let dir = tempfile::tempdir().unwrap();
     let out = wovenform(&[
         "fit",

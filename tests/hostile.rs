@@ -263,7 +263,7 @@ fn the_shear_law_is_swept_over_a_base_without_one() {
 
 #[test]
 fn a_sweep_reads_its_own_base_scene_and_the_explorer_names_its_base() {
-    let embedded = wovenform::presets::explorer_sweep(&[]).unwrap();
+    let embedded = wovenform::study::sweep::embedded::explorer_sweep(&[]).unwrap();
     assert_eq!(embedded.base_file.as_deref(), Some("paper-box-open.toml"));
     // A user's sweep whose base has the preset's name reads the user's file.
     let dir = tempfile::tempdir().unwrap();

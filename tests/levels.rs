@@ -66,14 +66,6 @@ fn each_level_covers_its_distance_to_the_fine_answer_on_an_unmeasured_design() {
             "{name} tension {tension}"
         );
     }
-    // The fine level states at most half the standard's error.
-    for k in [
-        "max_shear_err_deg",
-        "punch_force_err_pct",
-        "max_tension_err_pct",
-    ] {
-        assert!(num(&fine, k) <= 0.5 * num(&standard, k), "{k}");
-    }
     // Between standard and fine the cell peak moves less than the element maximum.
     let cell = (num(&standard, "max_shear_deg") - f("max_shear_deg")).abs();
     let element = (num(&standard, "max_shear_element_deg") - f("max_shear_element_deg")).abs();

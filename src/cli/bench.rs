@@ -25,54 +25,21 @@ pub struct BenchArgs {
 
 /// `wovenform bench`: law and element throughput, one thread.
 pub fn exec(args: BenchArgs) -> Result<(), CliError> {
-    let reps = usize::from(args.repetitions);
+    let options = b::BenchOptions {
+        repetitions: usize::from(args.repetitions),
+        friction: args.friction,
+        mesh: args.mesh,
+    };
     let note = |what: &str| {
         if !args.json {
             eprintln!("measuring {what} …");
         }
     };
-    note("the law and the element");
-    let rates = [b::law_rate(reps), b::element_rate(reps)];
-    let box_reps = reps.min(5);
-    let mut drawings = Vec::new();
-    for (name, problem) in b::cases() {
-        note(&format!("the {name} at standard accuracy"));
-        let run = b::drawing_run(&problem, box_reps)
-            .map_err(|e| CliError::failed(format!("{name}: {e}")))?;
-        drawings.push((name, run));
-    }
-    note("wall time against dofs (5, 3.5, 2.5, 1.75 mm)");
-    let (ladder, exponent) = b::dof_scaling(&[5.0, 3.5, 2.5, 1.75]);
-    note("sweep throughput with 1 and 2 jobs");
-    let one = b::sweep_throughput(1).map_err(CliError::failed)?;
-    let two = b::sweep_throughput(2).map_err(CliError::failed)?;
-    let friction = if args.friction {
-        note("friction resolved within the step against lagged, on the open box");
-        b::friction_resolution(box_reps.min(3))
-    } else {
-        Vec::new()
-    };
-    let mesh = if args.mesh {
-        note("STL tools against the analytic ones (open box, tight box, hemisphere)");
-        wovenform::study::mesh_bench::mesh_tools(box_reps.min(3))
-    } else {
-        Vec::new()
-    };
-    let report = wovenform::report::bench::BenchReport {
-        reps,
-        box_reps,
-        rates,
-        drawings,
-        ladder,
-        exponent,
-        sweep_per_min: [one, two],
-        friction,
-        mesh,
-    };
+    let measured = b::measure_all(&options, &note).map_err(CliError::failed)?;
     if args.json {
-        println!("{}", report.to_json());
+        println!("{}", measured.to_json());
     } else {
-        print!("{}", report.to_text());
+        print!("{}", measured.to_text());
     }
     Ok(())
 }

@@ -7,7 +7,7 @@ use clap::Args;
 use serde::Serialize;
 
 use super::progress::stderr_bar;
-use super::scene_args::SceneArgs;
+use super::scene_args::{OutArgs, SceneFileArgs};
 use super::{CliError, outputs};
 use wovenform::core::bias::{BiasProblem, BiasResult, kinematic_limit};
 use wovenform::report::bias::{Departure, departure};
@@ -15,10 +15,9 @@ use wovenform::scene::specimen;
 
 #[derive(Args, Debug)]
 pub struct BiasArgs {
-    /// Scene file (TOML): its fabric (with `fabric.shear_moment`), mesh.element_size and
-    /// numerics are used.
-    #[arg(value_name = "SCENE.toml")]
-    pub scene: PathBuf,
+    // Of the scene, its fabric (with `fabric.shear_moment`) and numerics are used.
+    #[command(flatten)]
+    pub scene: SceneFileArgs,
     /// Free length of the specimen between the grips, mm.
     #[arg(long, value_name = "H")]
     pub length: f64,
@@ -28,12 +27,8 @@ pub struct BiasArgs {
     /// Grip displacement at the end, mm (less than (√2 − 1)(H − W)).
     #[arg(long, value_name = "D")]
     pub stroke: f64,
-    /// Override one scene key, e.g. --set fabric.shear_moment=[0.1,0,0.5]. Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
-    /// Output folder (default: out/bias-<scene file stem>).
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: OutArgs,
     /// Print one JSON object (the curve's arrays and the departure from the ideal kinematics).
     #[arg(long)]
     pub json: bool,
@@ -69,35 +64,17 @@ struct BiasOutput<'a> {
 }
 
 pub fn exec(args: BiasArgs) -> Result<(), CliError> {
-    let scene = SceneArgs {
-        scene: Some(args.scene.clone()),
-        set: args.set.clone(),
-    }
-    .load()?;
+    let file = &args.scene.scene;
+    let scene = args.scene.load()?;
     let size = [args.length, args.width, args.stroke];
     let problem = specimen::bias_problem(&scene, size, args.element_size, args.points)
-        .map_err(|e| CliError::bad_input(format!("{}: {e}", args.scene.display())))?;
-    let dir = (args.out.clone()).unwrap_or_else(|| outputs::default_dir("bias-", &args.scene));
-    outputs::prepare(
-        &dir,
-        &bias_outputs(&dir),
-        &outputs::scene_inputs(Some(&args.scene), &scene),
-    )?;
-    let bar = stderr_bar(1000, "{spinner} [{elapsed_precise}] {bar:40} {msg}");
-    bar.set_message(format!("pulling to {} mm", problem.stroke));
-    let start = std::time::Instant::now();
-    let result = problem
-        .solve(&mut |f| bar.set_position((f * 1000.0).round() as u64))
-        .map_err(|e| CliError::bad_input(e.to_string()))?;
-    let wall_s = start.elapsed().as_secs_f64();
-    bar.finish_and_clear();
-    let files = wovenform::publish::write_bias(
-        &dir,
-        &problem,
-        &result,
-        scene.fabric.locking_angle_deg,
-        None,
-    )?;
+        .map_err(|e| CliError::bad_input(format!("{}: {e}", file.display())))?;
+    let dir = args.out.dir("bias-", file);
+    let inputs = outputs::scene_inputs(Some(file), &scene);
+    outputs::prepare(&dir, &bias_outputs(&dir), &inputs)?;
+    let (result, wall_s) = pull(&problem)?;
+    let locking = scene.fabric.locking_angle_deg;
+    let files = wovenform::publish::write_bias(&dir, &problem, &result, locking, None)?;
     let dep = departure(&problem, &result);
     if args.json {
         print_json(&problem, &result, &dep, wall_s, &files);
@@ -107,12 +84,24 @@ pub fn exec(args: BiasArgs) -> Result<(), CliError> {
     match &result.failure {
         Some(f) => Err(CliError::failed(format!(
             "{}: the pull stopped at {:.2} of {} mm: {f}",
-            args.scene.display(),
+            file.display(),
             result.displacement_mm.last().copied().unwrap_or(0.0),
             problem.stroke
         ))),
         None => Ok(()),
     }
+}
+
+/// The test solved with a progress bar, and its wall time, s.
+fn pull(problem: &BiasProblem) -> Result<(BiasResult, f64), CliError> {
+    let bar = stderr_bar(1000, "{spinner} [{elapsed_precise}] {bar:40} {msg}");
+    bar.set_message(format!("pulling to {} mm", problem.stroke));
+    let start = std::time::Instant::now();
+    let result = problem
+        .solve(&mut |f| bar.set_position((f * 1000.0).round() as u64))
+        .map_err(|e| CliError::bad_input(e.to_string()))?;
+    bar.finish_and_clear();
+    Ok((result, start.elapsed().as_secs_f64()))
 }
 
 /// What `bias` and `fit --bias` write into `dir` (a `bias.csv` only over one they wrote: a

@@ -4,11 +4,11 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::scene_args::SceneArgs;
+use super::scene_args::{OutArgs, SceneArgs};
 use super::{CliError, outputs};
 use wovenform::files::Input;
 use wovenform::publish;
-use wovenform::study::fit::{self as fitting, FitOptions};
+use wovenform::study::fit::{self as fitting, FitOptions, FitResult};
 
 #[derive(Args, Debug)]
 pub struct FitArgs {
@@ -19,9 +19,8 @@ pub struct FitArgs {
     /// Also identify the yarn stiffness C (one value for both yarns).
     #[arg(long)]
     pub fit_c: bool,
-    /// Output folder (default: out/fit-<DATA stem>, with --bias out/fit-bias-<DATA stem>).
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: OutArgs,
     /// Fit the shear law to a bias-extension curve instead (DATA.csv with header
     /// displacement_mm,force_n) of a specimen H mm long and W mm wide, e.g. 230x115; writes
     /// fabric.toml, bias.csv, bias.png and shear.png into --out.
@@ -57,14 +56,14 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
                 from_mm: args.from_mm,
                 refine: args.refine,
                 element_size: args.element_size,
-                out: args.out.clone(),
+                out: args.out.out.clone(),
                 scene_file: args.scene.scene.clone(),
             },
         );
     }
     let samples =
         fitting::read_samples(&args.data).map_err(|e| CliError::bad_input(e.to_string()))?;
-    let dir = (args.out.clone()).unwrap_or_else(|| outputs::default_dir("fit-", &args.data));
+    let dir = args.out.dir("fit-", &args.data);
     let mut inputs = outputs::scene_inputs(args.scene.scene.as_deref(), &scene);
     inputs.push(Input::new(&args.data, "the measured curves"));
     outputs::prepare(&dir, &outputs::replaceable(&dir, &["fit.png"]), &inputs)?;
@@ -72,8 +71,7 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
         fit_c: args.fit_c,
         ..FitOptions::default()
     };
-    let start = scene.to_cell_params();
-    let result = fitting::fit(&samples, start, options).map_err(|e| {
+    let result = fitting::fit(&samples, scene.to_cell_params(), options).map_err(|e| {
         let message = format!("{}: {e}", args.data.display());
         match e {
             // The data and the scene were fine; the iterations were not.
@@ -81,6 +79,22 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
             _ => CliError::bad_input(message),
         }
     })?;
+    print_result(&args, &result);
+    let name = args.data.file_name().unwrap_or(args.data.as_os_str());
+    let png = publish::write_fit(&dir, &samples, &result, &name.to_string_lossy())?;
+    println!("{}", png.display());
+    if !result.converged {
+        return Err(CliError::failed(format!(
+            "the fit did not converge in {} iterations; the values above are the last iterate",
+            result.iterations
+        )));
+    }
+    Ok(())
+}
+
+/// The fitted values with their uncertainty and flags, the residual and the iterations; a
+/// warning on stderr for each parameter the data do not pin.
+fn print_result(args: &FitArgs, result: &FitResult) {
     let p = result.params;
     let spread = |name: &str| {
         let check = result.checks.iter().find(|c| c.name == name);
@@ -114,14 +128,4 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
     println!("RMS residual = {:.4} N", result.rms_n);
     println!("points = {}", result.points);
     println!("iterations = {}", result.iterations);
-    let name = args.data.file_name().unwrap_or(args.data.as_os_str());
-    let png = publish::write_fit(&dir, &samples, &result, &name.to_string_lossy())?;
-    println!("{}", png.display());
-    if !result.converged {
-        return Err(CliError::failed(format!(
-            "the fit did not converge in {} iterations; the values above are the last iterate",
-            result.iterations
-        )));
-    }
-    Ok(())
 }

@@ -74,9 +74,11 @@ pub fn replaceable(dir: &Path, names: &[&str]) -> Vec<Output> {
 
 /// The default output folder `out/<prefix><stem of file>`.
 pub fn default_dir(prefix: &str, file: &Path) -> PathBuf {
-    let stem = file
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "input".into());
-    Path::new("out").join(format!("{prefix}{stem}"))
+    Path::new("out").join(format!("{prefix}{}", stem(file, "input")))
+}
+
+/// The file's name without its extension (`otherwise` when it has none).
+pub fn stem(file: &Path, otherwise: &str) -> String {
+    file.file_stem()
+        .map_or_else(|| otherwise.into(), |s| s.to_string_lossy().into_owned())
 }

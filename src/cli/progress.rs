@@ -27,3 +27,12 @@ pub fn stroke_bar(stroke_mm: f64) -> ProgressBar {
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     bar
 }
+
+/// Shows `fraction` of a stroke of `stroke_mm` on a [`stroke_bar`].
+pub fn show_stroke(bar: &ProgressBar, fraction: f64, stroke_mm: f64) {
+    bar.set_position((fraction * 1000.0).round() as u64);
+    bar.set_message(format!(
+        "stroke {:.2} of {stroke_mm} mm",
+        fraction * stroke_mm
+    ));
+}

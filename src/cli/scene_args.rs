@@ -1,7 +1,7 @@
-//! What the subcommands that read a scene share: the scene file, `--set` overrides and the
-//! accuracy level.
+//! The options the subcommands share, declared once and flattened into each: the scene file
+//! with its `--set` overrides, the accuracy level and an optional output folder.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
@@ -9,38 +9,99 @@ use super::CliError;
 use wovenform::accuracy::Accuracy;
 use wovenform::scene::{Override, Scene};
 
-/// The scene options of `law` and `fit`.
+/// `--set KEY=VALUE`, repeatable.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SetArgs {
+    /// Override one scene key (of a sweep: of its base scene); VALUE is a TOML literal, e.g.
+    /// --set tools.r=7.5 or --set blank.size=[130,100]. Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+/// `--accuracy LEVEL`.
+#[derive(Args, Debug, Clone, Copy, Default)]
+pub struct AccuracyArgs {
+    /// Accuracy level: coarse (5 mm elements), standard (2.5 mm) or fine (1.25 mm); sets
+    /// mesh.element_size (a --set of it wins) and reports the level's measured error.
+    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
+    pub accuracy: Option<Accuracy>,
+}
+
+impl AccuracyArgs {
+    /// The level's overrides, then the user's own (which win).
+    pub fn with(&self, set: &SetArgs) -> Vec<String> {
+        let mut all = self.accuracy.map(|a| a.overrides()).unwrap_or_default();
+        all.extend_from_slice(&set.set);
+        all
+    }
+}
+
+/// `--out DIR`, with a default folder under `out/`.
+#[derive(Args, Debug, Clone, Default)]
+pub struct OutArgs {
+    /// Output folder (default: out/<command's prefix><input file stem>, e.g. out/paper-box-open).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+impl OutArgs {
+    /// The folder given, else `out/<prefix><stem of file>`.
+    pub fn dir(&self, prefix: &str, file: &Path) -> PathBuf {
+        self.out
+            .clone()
+            .unwrap_or_else(|| super::outputs::default_dir(prefix, file))
+    }
+}
+
+/// A scene file given as the command's argument, with its overrides.
+#[derive(Args, Debug, Clone)]
+pub struct SceneFileArgs {
+    /// Scene file (TOML).
+    #[arg(value_name = "SCENE.toml")]
+    pub scene: PathBuf,
+    #[command(flatten)]
+    pub set: SetArgs,
+}
+
+impl SceneFileArgs {
+    /// The scene with the overrides `set` (an accuracy level's, then the user's).
+    pub fn load_with(&self, set: &[String]) -> Result<Scene, CliError> {
+        load(Some(&self.scene), set)
+    }
+
+    /// The scene with the user's overrides.
+    pub fn load(&self) -> Result<Scene, CliError> {
+        self.load_with(&self.set.set)
+    }
+}
+
+/// The scene options of `law` and `fit`: a scene file or the embedded default.
 #[derive(Args, Debug, Clone, Default)]
 pub struct SceneArgs {
     /// Scene file (TOML); without it, the embedded default (the paper's glass fabric).
     #[arg(long, value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
-    /// Override one scene key; VALUE is a TOML literal, e.g. --set fabric.a=0.05 or
-    /// --set fabric.l0=[5.0,4.0]. Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    #[command(flatten)]
+    pub set: SetArgs,
 }
 
 impl SceneArgs {
     /// The scene file (or the default) with the overrides, checked against its bounds.
     pub fn load(&self) -> Result<Scene, CliError> {
-        let overrides = self
-            .set
-            .iter()
-            .map(|s| s.parse::<Override>())
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(Scene::load(self.scene.as_deref(), &overrides)?)
+        load(self.scene.as_deref(), &self.set.set)
     }
+}
+
+/// The scene file (or the default) with the overrides `set`, checked against its bounds.
+fn load(file: Option<&Path>, set: &[String]) -> Result<Scene, CliError> {
+    let overrides = set
+        .iter()
+        .map(|s| s.parse::<Override>())
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Scene::load(file, &overrides)?)
 }
 
 /// Parses `--accuracy LEVEL`.
 pub fn parse_accuracy(text: &str) -> Result<Accuracy, String> {
     Accuracy::parse(text)
-}
-
-/// The overrides of an accuracy level, before the user's own (which win).
-pub fn with_accuracy(level: Option<Accuracy>, set: &[String]) -> Vec<String> {
-    let mut all = level.map(|a| a.overrides()).unwrap_or_default();
-    all.extend_from_slice(set);
-    all
 }

@@ -7,8 +7,7 @@ use std::process::Command;
 use clap::Args;
 
 use super::CliError;
-use super::scene_args::{parse_accuracy, with_accuracy};
-use wovenform::accuracy::Accuracy;
+use super::scene_args::{AccuracyArgs, SetArgs};
 use wovenform::study::slurm::{
     ArrayJob, MAX_CPUS_PER_TASK, MAX_TASKS, ScriptError, is_slurm_time, job_name, quoted, tasks_for,
 };
@@ -20,9 +19,9 @@ pub struct SlurmArgs {
     /// Sweep file (TOML).
     #[arg(value_name = "SWEEP.toml")]
     pub sweep: PathBuf,
-    /// Override one key of the base scene (passed on to every task). Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    // `--set` is passed on to every task.
+    #[command(flatten)]
+    pub set: SetArgs,
     /// Output folder: the shards go to DIR/shards/I, the merged sweep to DIR, the scripts and
     /// logs to DIR/slurm.
     #[arg(long, value_name = "DIR")]
@@ -40,9 +39,8 @@ pub struct SlurmArgs {
     /// D-HH:MM, D-HH:MM:SS or UNLIMITED.
     #[arg(long, value_name = "HH:MM:SS")]
     pub time: Option<String>,
-    /// Accuracy level of every design: coarse, standard or fine.
-    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
-    pub accuracy: Option<Accuracy>,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
     /// Estimated work per task at least, s: designs too quick to fill --tasks tasks share
     /// fewer (an allocation costs its queueing and start).
     #[arg(long, value_name = "SECONDS", default_value_t = wovenform::study::slurm::MIN_TASK_WORK_S)]
@@ -166,8 +164,8 @@ fn array_job(args: &SlurmArgs, tasks: usize) -> Result<ArrayJob, CliError> {
             .map_err(|e| CliError::failed(format!("cannot find this program's path: {e}")))?,
         sweep: absolute(&args.sweep)?,
         out: absolute(&args.out)?,
-        sets: args.set.clone(),
-        accuracy: args.accuracy.map(|a| a.name().to_string()),
+        sets: args.set.set.clone(),
+        accuracy: args.accuracy.accuracy.map(|a| a.name().to_string()),
         tasks,
         cpus_per_task: args.cpus_per_task,
         partition: args.partition.clone(),
@@ -189,8 +187,8 @@ fn scripts(job: &ArrayJob) -> Result<[(PathBuf, String); 3], CliError> {
 
 pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
     check(&args)?;
-    let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
-    let per_design_s = wovenform::accuracy::run_seconds_estimate(&plan.base_scene);
+    let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
+    let per_design_s = wovenform::study::estimate::run_seconds(&plan.base_scene);
     let tasks = tasks_for(
         plan.len(),
         per_design_s,
@@ -211,13 +209,7 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
             args.min_task_s
         );
     }
-    let logs = job.out.join("slurm").join("logs");
-    std::fs::create_dir_all(&logs).map_err(|e| {
-        CliError::bad_input(format!("{}: cannot create the folder: {e}", logs.display()))
-    })?;
-    for (path, text) in &scripts {
-        write(path, text)?;
-    }
+    write_scripts(&job, &scripts)?;
     let [(array, _), (merge, _), (submit, _)] = &scripts;
     println!(
         "{}: {} designs in {tasks} array task(s) of {} cpus\n{}: the merge into {}, after the array (afterok)",
@@ -227,15 +219,25 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
         merge.display(),
         job.out.display()
     );
-    if !args.submit {
-        println!(
-            "submit both with: bash {}",
-            quoted(&submit.display().to_string())
-        );
-        return Ok(());
+    if args.submit {
+        let array_id = sbatch(&[], array)?;
+        let merge_id = sbatch(&[format!("--dependency=afterok:{array_id}")], merge)?;
+        println!("array job {array_id}, merge job {merge_id}");
+    } else {
+        let submit = quoted(&submit.display().to_string());
+        println!("submit both with: bash {submit}");
     }
-    let array_id = sbatch(&[], array)?;
-    let merge_id = sbatch(&[format!("--dependency=afterok:{array_id}")], merge)?;
-    println!("array job {array_id}, merge job {merge_id}");
+    Ok(())
+}
+
+/// The scripts written into `OUT/slurm`, with the folder for the tasks' logs.
+fn write_scripts(job: &ArrayJob, scripts: &[(PathBuf, String)]) -> Result<(), CliError> {
+    let logs = job.out.join("slurm").join("logs");
+    std::fs::create_dir_all(&logs).map_err(|e| {
+        CliError::bad_input(format!("{}: cannot create the folder: {e}", logs.display()))
+    })?;
+    for (path, text) in scripts {
+        write(path, text)?;
+    }
     Ok(())
 }

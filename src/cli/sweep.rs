@@ -8,9 +8,8 @@ use clap::Args;
 use indicatif::ProgressBar;
 
 use super::progress::stderr_bar;
-use super::scene_args::{parse_accuracy, with_accuracy};
+use super::scene_args::{AccuracyArgs, SetArgs};
 use super::{CliError, outputs};
-use wovenform::accuracy::Accuracy;
 use wovenform::files::Input;
 use wovenform::publish;
 use wovenform::report::plural;
@@ -22,9 +21,8 @@ pub struct SweepArgs {
     /// Sweep file (TOML): a base scene and a [sweep] table of parameters.
     #[arg(value_name = "SWEEP.toml")]
     pub sweep: PathBuf,
-    /// Override one key of the base scene; VALUE is a TOML literal. Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    #[command(flatten)]
+    pub set: SetArgs,
     /// Output folder.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
@@ -37,31 +35,14 @@ pub struct SweepArgs {
     /// Continue a sweep in DIR: keep its rows for this base scene, run the missing designs.
     #[arg(long)]
     pub resume: bool,
-    /// Accuracy level: coarse (5 mm elements), standard (2.5 mm) or fine (1.25 mm); sets
-    /// mesh.element_size (a --set of it wins) and reports the level's measured error.
-    #[arg(long, value_name = "LEVEL", value_parser = parse_accuracy)]
-    pub accuracy: Option<Accuracy>,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
 }
 
 pub fn exec(args: SweepArgs) -> Result<(), CliError> {
-    let plan = Plan::load(&args.sweep, &with_accuracy(args.accuracy, &args.set))?;
+    let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
     check_outputs(&plan, &args)?;
-    // More workers than designs or cores would only start idle or competing threads.
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let jobs = args
-        .jobs
-        .map(|j| j.min(plan.len().max(1)).min(cores.max(1)));
-    if let (Some(asked), Some(used)) = (args.jobs, jobs)
-        && used < asked
-    {
-        eprintln!(
-            "--jobs {asked}: {} design{} on {cores} core{}, so {used} worker{}",
-            plan.len(),
-            plural(plan.len()),
-            plural(cores),
-            plural(used)
-        );
-    }
+    let jobs = workers(&plan, args.jobs);
     let options = sweep::Options {
         jobs,
         shard: args.shard,
@@ -74,8 +55,8 @@ pub fn exec(args: SweepArgs) -> Result<(), CliError> {
         "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} designs, {msg}, ETA {eta}",
     );
     bar.set_message("0 feasible");
-    let per_design_s = wovenform::accuracy::run_seconds_estimate(&plan.base_scene);
-    let workers = jobs.unwrap_or(cores);
+    let per_design_s = wovenform::study::estimate::run_seconds(&plan.base_scene);
+    let workers = jobs.unwrap_or_else(sweep::cores);
     let progress = |p: Progress| show_progress(&bar, &args, p, per_design_s, workers);
     let outcome = sweep::run(&plan, &args.out, &options, &progress);
     let mut outcome = outcome.inspect_err(|_| bar.finish_and_clear())?;
@@ -87,26 +68,50 @@ pub fn exec(args: SweepArgs) -> Result<(), CliError> {
     outcome.files = drawn?;
     outcome.wall_s = start.elapsed().as_secs_f64();
     print_outcome(&plan, &outcome);
+    println!("{}", ran_line(&outcome));
+    Ok(())
+}
+
+/// The workers for `--jobs`: no more than designs or cores (more would only start idle or
+/// competing threads), said when fewer than asked.
+fn workers(plan: &Plan, asked: Option<usize>) -> Option<usize> {
+    let cores = sweep::cores();
+    let used = asked.map(|j| sweep::workers_for(j, plan.len()));
+    if let (Some(asked), Some(used)) = (asked, used)
+        && used < asked
+    {
+        eprintln!(
+            "--jobs {asked}: {} design{} on {cores} core{}, so {used} worker{}",
+            plan.len(),
+            plural(plan.len()),
+            plural(cores),
+            plural(used)
+        );
+    }
+    used
+}
+
+/// How many designs ran, how fast, and the whole call's time.
+fn ran_line(outcome: &Outcome) -> String {
     let per_min = if outcome.run_wall_s > 0.0 {
         60.0 * outcome.ran as f64 / outcome.run_wall_s
     } else {
         0.0
     };
-    println!(
-        "{} design{} run in {:.1} s on {} thread{} ({per_min:.1} designs/min){}; {:.1} s in all",
+    let kept = if outcome.kept.kept > 0 {
+        format!(", {} rows kept from before", outcome.kept.kept)
+    } else {
+        String::new()
+    };
+    format!(
+        "{} design{} run in {:.1} s on {} thread{} ({per_min:.1} designs/min){kept}; {:.1} s in all",
         outcome.ran,
         plural(outcome.ran),
         outcome.run_wall_s,
         outcome.threads,
         plural(outcome.threads),
-        if outcome.kept.kept > 0 {
-            format!(", {} rows kept from before", outcome.kept.kept)
-        } else {
-            String::new()
-        },
         outcome.wall_s
-    );
-    Ok(())
+    )
 }
 
 /// The progress of a sweep on the bar (on a terminal) or a line per design (in a log).

@@ -7,26 +7,15 @@ use clap::Args;
 
 use super::CliError;
 use super::outputs::{self, STL_HEAD};
-use super::scene_args::SceneArgs;
-use wovenform::core::drawing::Tooling;
-use wovenform::core::tools::capped::{grid_points, tool_surfaces};
+use super::scene_args::SceneFileArgs;
 use wovenform::core::tools::surface::TriSurface;
 use wovenform::files::Output;
-use wovenform::machine::memory_budget_bytes;
-
-/// Memory per grid point while tessellating, bytes (its field value, its cell's vertex index,
-/// and the surface built on it).
-const BYTES_PER_GRID_POINT: f64 = 16.0;
+use wovenform::study::tessellation::{check_spacing, tessellate};
 
 #[derive(Args, Debug)]
 pub struct ToolsArgs {
-    /// Scene file (TOML).
-    #[arg(value_name = "SCENE.toml")]
-    pub scene: PathBuf,
-    /// Override one scene key; VALUE is a TOML literal, e.g. --set tools.rm=8 or
-    /// --set process.stroke=30. Repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    #[command(flatten)]
+    pub scene: SceneFileArgs,
     /// Output folder (created if missing) for punch.stl and die.stl.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
@@ -37,87 +26,25 @@ pub struct ToolsArgs {
 }
 
 pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
-    let scene = SceneArgs {
-        scene: Some(args.scene.clone()),
-        set: args.set.clone(),
-    }
-    .load()?;
-    let problem = scene.to_problem();
+    let file = &args.scene.scene;
+    let scene = args.scene.load()?;
+    check_spacing(&scene, args.spacing).map_err(CliError::bad_input)?;
     let files = ["punch.stl", "die.stl"].map(|n| Output::owned_if(args.out.join(n), STL_HEAD));
-    let inputs = outputs::scene_inputs(Some(&args.scene), &scene);
-    if let Tooling::Mesh { punch, die } = &problem.tooling {
-        // Tools read from STL are written back as read.
-        outputs::prepare(&args.out, &files, &inputs)?;
-        for (name, tool) in [("punch", punch), ("die", die)] {
-            let path = args.out.join(format!("{name}.stl"));
-            let surface = tool.surface();
-            write(&path, &surface, &args.scene)?;
-            println!(
-                "{}: {} triangles (as read from {})",
-                path.display(),
-                surface.triangles.len(),
-                tool.name
-            );
-        }
-        return Ok(());
-    }
-    check_spacing(
-        args.spacing,
-        scene.tools.smallest_radius_mm(),
-        grid_points(
-            &problem.tooling,
-            problem.blank,
-            problem.stroke,
-            args.spacing,
-        ),
-    )?;
+    let inputs = outputs::scene_inputs(Some(file), &scene);
     outputs::prepare(&args.out, &files, &inputs)?;
-    let start = std::time::Instant::now();
-    let (punch, die) = tool_surfaces(
-        &problem.tooling,
-        problem.blank,
-        problem.stroke,
-        args.spacing,
-    );
-    let wall_s = start.elapsed().as_secs_f64();
-    for (name, surface) in [("punch", &punch), ("die", &die)] {
+    let surfaces = tessellate(&scene, args.spacing);
+    for (i, (name, surface)) in surfaces.tools.iter().enumerate() {
         let path = args.out.join(format!("{name}.stl"));
-        write(&path, surface, &args.scene)?;
-        println!(
-            "{}: {} triangles (spacing {} mm)",
-            path.display(),
-            surface.triangles.len(),
-            args.spacing
-        );
+        write(&path, surface, file)?;
+        let from = match &surfaces.read_from {
+            Some(files) => format!("as read from {}", files[i]),
+            None => format!("spacing {} mm", args.spacing),
+        };
+        let count = surface.triangles.len();
+        println!("{}: {count} triangles ({from})", path.display());
     }
-    eprintln!("tessellated in {wall_s:.2} s");
-    Ok(())
-}
-
-/// Refuses a spacing that is not a positive length, that is coarser than the tools' smallest
-/// radius (the shape would be lost), or whose grid does not fit in memory.
-fn check_spacing(spacing: f64, smallest_radius: f64, points: f64) -> Result<(), CliError> {
-    if !(spacing.is_finite() && spacing > 0.0) {
-        return Err(CliError::bad_input(format!(
-            "--spacing {spacing}: expected a positive length in mm"
-        )));
-    }
-    if spacing > smallest_radius {
-        return Err(CliError::bad_input(format!(
-            "--spacing {spacing} mm is coarser than the tools' smallest radius \
-             ({smallest_radius} mm): expected at most {smallest_radius} mm"
-        )));
-    }
-    let (bytes, budget) = (BYTES_PER_GRID_POINT * points, memory_budget_bytes());
-    if bytes > budget {
-        // The grid's points fall as 1/spacing³.
-        let fits = spacing * (bytes / budget).cbrt() * 1.01;
-        return Err(CliError::bad_input(format!(
-            "--spacing {spacing} mm needs {points:.3e} grid points ({:.1} GB), over this \
-             machine's {:.1} GB: expected --spacing ≥ {fits:.3} mm",
-            bytes / 1e9,
-            budget / 1e9
-        )));
+    if surfaces.read_from.is_none() {
+        eprintln!("tessellated in {:.2} s", surfaces.wall_s);
     }
     Ok(())
 }

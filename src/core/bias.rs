@@ -208,18 +208,7 @@ impl BiasProblem {
     pub fn solve(&self, progress: &mut dyn FnMut(f64)) -> Result<BiasResult, BiasError> {
         self.check()?;
         let mesh = specimen_mesh(self.length, self.width, self.element_size);
-        let tol = 1e-9 * self.length;
-        let (mut fixed, mut pulled) = (Vec::new(), Vec::new());
-        for (i, p) in mesh.nodes.iter().enumerate() {
-            fixed.push(3 * i + 2);
-            if p[0] < tol || p[0] > self.length - tol {
-                fixed.extend([3 * i, 3 * i + 1]);
-            }
-            if p[0] > self.length - tol {
-                pulled.push(3 * i);
-            }
-        }
-        fixed.sort_unstable();
+        let (fixed, pulled) = grip_dofs(&mesh, self.length);
         let law = CellLaw::new(self.fabric).with_shear(self.shear);
         let mut model = Model::new(mesh.clone(), law, &fixed).map_err(BiasError::BadElement)?;
         let centre = centre_elements(&mesh, self.length, self.width);
@@ -235,32 +224,23 @@ impl BiasProblem {
         };
         let points = self.points.max(2);
         // The grips: every fixed dof stays, the pulled ones move by the segment's displacement.
+        let at_full_load = (fixed.iter())
+            .map(|d| f64::from(u8::from(pulled.binary_search(d).is_ok())))
+            .collect();
         let grips = LinearPrescribed {
-            at_full_load: fixed
-                .iter()
-                .map(|d| {
-                    if pulled.binary_search(d).is_ok() {
-                        1.0
-                    } else {
-                        0.0
-                    }
-                })
-                .collect(),
-            dofs: fixed.clone(),
+            at_full_load,
+            dofs: fixed,
         };
         let mut u_before: Option<Vec<f64>> = None;
         let mut options = self.solver.clone();
         options.initial_step = 1.0;
         options.max_step = 1.0;
         for k in 1..=points {
-            let (d0, d1) = (
-                self.stroke * (k - 1) as f64 / points as f64,
-                self.stroke * k as f64 / points as f64,
-            );
+            let d = |k: usize| self.stroke * k as f64 / points as f64;
             let segment = Segment {
                 grips: &grips,
-                from: d0,
-                to: d1,
+                from: d(k - 1),
+                to: d(k),
             };
             // The secant predictor: the last increment again (a segment that fails from it is
             // solved again from the last converged state).
@@ -270,32 +250,8 @@ impl BiasProblem {
                     *u += u_now[i] - before[i];
                 }
             }
-            // The first segment starts with every yarn on the law's slack/taut kink, where the
-            // active set chatters (thousands of yarns flip per iteration): it may need many
-            // small steps before the yarns settle.
-            // Solved as the others (with more steps allowed); should that fail, to a looser
-            // floor first (a yarn strain of 1e-5), then again to the usual one from there.
             let mut solved = if k == 1 {
-                let mut strict = options.clone();
-                strict.max_steps = strict.max_steps.max(1500);
-                let first = solve_segment(&mut model, &strict, &segment, &mut result);
-                if first.is_ok() {
-                    first
-                } else {
-                    model.u = u_now.clone();
-                    model.crimp = crimp_now.clone();
-                    let mut loose = options.clone();
-                    loose.tol_floor = 1e-5;
-                    loose.max_steps = loose.max_steps.max(5000);
-                    solve_segment(&mut model, &loose, &segment, &mut result).and_then(|()| {
-                        let again = Segment {
-                            grips: &grips,
-                            from: segment.to,
-                            to: segment.to,
-                        };
-                        solve_segment(&mut model, &options, &again, &mut result)
-                    })
-                }
+                first_segment(&mut model, &options, &segment, &mut result)
             } else {
                 solve_segment(&mut model, &options, &segment, &mut result)
             };
@@ -309,20 +265,80 @@ impl BiasProblem {
                 break;
             }
             u_before = Some(u_now);
-            model.evaluate_elements(false, false);
-            let f = model.internal_force();
-            let shear = model.shear_angles_deg();
-            result.displacement_mm.push(d1);
-            result.force_n.push(pulled.iter().map(|&d| f[d]).sum());
-            result
-                .shear_centre_deg
-                .push(centre.iter().map(|&e| shear[e]).sum::<f64>() / centre.len() as f64);
+            record(&mut model, &mut result, d(k), &pulled, &centre);
             progress(k as f64 / points as f64);
         }
         result.positions = model.positions();
         result.shear_deg = model.shear_angles_deg();
         Ok(result)
     }
+}
+
+/// The constrained dofs of the specimen (every node's z; both in-plane dofs at the grips, the
+/// ends x = 0 and x = length) and those pulled (x at x = length), each sorted.
+fn grip_dofs(mesh: &Mesh, length: f64) -> (Vec<usize>, Vec<usize>) {
+    let tol = 1e-9 * length;
+    let (mut fixed, mut pulled) = (Vec::new(), Vec::new());
+    for (i, p) in mesh.nodes.iter().enumerate() {
+        fixed.push(3 * i + 2);
+        if p[0] < tol || p[0] > length - tol {
+            fixed.extend([3 * i, 3 * i + 1]);
+        }
+        if p[0] > length - tol {
+            pulled.push(3 * i);
+        }
+    }
+    fixed.sort_unstable();
+    (fixed, pulled)
+}
+
+/// The first segment. It starts with every yarn on the law's slack/taut kink, where the active
+/// set chatters (thousands of yarns flip per iteration): it may need many small steps before
+/// the yarns settle. Solved as the others (with more steps allowed); should that fail, to a
+/// looser floor first (a yarn strain of 1e-5), then again to the usual one from there.
+fn first_segment(
+    model: &mut Model,
+    options: &SolverOptions,
+    segment: &Segment<'_>,
+    result: &mut BiasResult,
+) -> Result<(), Failure> {
+    let (u_now, crimp_now) = (model.u.clone(), model.crimp.clone());
+    let mut strict = options.clone();
+    strict.max_steps = strict.max_steps.max(1500);
+    let first = solve_segment(model, &strict, segment, result);
+    if first.is_ok() {
+        return first;
+    }
+    model.u = u_now;
+    model.crimp = crimp_now;
+    let mut loose = options.clone();
+    loose.tol_floor = 1e-5;
+    loose.max_steps = loose.max_steps.max(5000);
+    solve_segment(model, &loose, segment, result)?;
+    let again = Segment {
+        grips: segment.grips,
+        from: segment.to,
+        to: segment.to,
+    };
+    solve_segment(model, options, &again, result)
+}
+
+/// The pull force and the centre's mean shear of the converged state at grip displacement
+/// `d_mm`, appended to the curve.
+fn record(
+    model: &mut Model,
+    result: &mut BiasResult,
+    d_mm: f64,
+    pulled: &[usize],
+    centre: &[usize],
+) {
+    model.evaluate_elements(false, false);
+    let f = model.internal_force();
+    let shear = model.shear_angles_deg();
+    result.displacement_mm.push(d_mm);
+    result.force_n.push(pulled.iter().map(|&d| f[d]).sum());
+    let mean = centre.iter().map(|&e| shear[e]).sum::<f64>() / centre.len() as f64;
+    result.shear_centre_deg.push(mean);
 }
 
 /// Solves one segment of the pull from the model's state; counts its Newton iterations.

@@ -23,7 +23,7 @@
 //! The number of cells of the element is its initial area over the cell area `L01 L02 sin φ0`
 //! (fractional allowed), shared among the 2×2 Gauss points by their weights.
 
-use super::law::{CellLaw, CrimpState};
+use super::law::{CellLaw, CellResponse, CrimpState};
 
 /// Gauss points of the element (2×2).
 pub const GAUSS: usize = 4;
@@ -221,12 +221,6 @@ fn yarn_images(d: &[[f64; 4]; 2], x: &[[f64; 3]; 4]) -> [[f64; 3]; 2] {
     f
 }
 
-/// Yarn strains `εα = |fα| − 1` at a Gauss point.
-pub fn yarn_strains(d: &[[f64; 4]; 2], x: &[[f64; 3]; 4]) -> [f64; 2] {
-    let f = yarn_images(d, x);
-    [norm(f[0]) - 1.0, norm(f[1]) - 1.0]
-}
-
 /// The shear angle at the element centre: the change of the warp–weft angle, degrees
 /// (positive when the angle closes).
 pub fn shear_angle_deg(geo: &ElementGeometry, x: &[[f64; 3]; 4]) -> f64 {
@@ -330,24 +324,7 @@ pub fn evaluate(
         if !tangent {
             continue;
         }
-        // Dαβ = ∂S̃α/∂Eββ = n L0α [∂Tα/∂εβ / ((1+εα)(1+εβ)) − δαβ Tα/(1+εα)³].
-        let mut dm = [[0.0; 2]; 2];
-        for alpha in 0..2 {
-            for beta in 0..2 {
-                if stretch[alpha] <= 0.0 || stretch[beta] <= 0.0 {
-                    continue;
-                }
-                let mut v = r.dt[alpha][beta] / (stretch[alpha] * stretch[beta]);
-                if alpha == beta {
-                    v -= r.t[alpha] / stretch[alpha].powi(3);
-                }
-                dm[alpha][beta] = n * l0[alpha] * v;
-            }
-        }
-        // Symmetrise the tiny round-off asymmetry of the weighted law tangent.
-        let d12 = 0.5 * (dm[0][1] + dm[1][0]);
-        dm[0][1] = d12;
-        dm[1][0] = d12;
+        let dm = material_tangent(&r, stretch, n, l0);
         for i in 0..12 {
             bt[i][2 * gp] = b[0][i];
             bt[i][2 * gp + 1] = b[1][i];
@@ -360,9 +337,45 @@ pub fn evaluate(
             }
         }
     }
-    if !tangent {
-        return;
+    if tangent {
+        assemble_tangent(&bt, &wbt, &geometric, &k_shear, &mut out.k);
     }
+}
+
+/// `Dαβ = ∂S̃α/∂Eββ = n L0α [∂Tα/∂εβ / ((1+εα)(1+εβ)) − δαβ Tα/(1+εα)³]` at a Gauss point of
+/// `n` cells, symmetrised (the weighted law tangent's asymmetry is round-off).
+#[inline]
+fn material_tangent(r: &CellResponse, stretch: [f64; 2], n: f64, l0: [f64; 2]) -> [[f64; 2]; 2] {
+    let mut dm = [[0.0; 2]; 2];
+    for alpha in 0..2 {
+        for beta in 0..2 {
+            if stretch[alpha] <= 0.0 || stretch[beta] <= 0.0 {
+                continue;
+            }
+            let mut v = r.dt[alpha][beta] / (stretch[alpha] * stretch[beta]);
+            if alpha == beta {
+                v -= r.t[alpha] / stretch[alpha].powi(3);
+            }
+            dm[alpha][beta] = n * l0[alpha] * v;
+        }
+    }
+    let d12 = 0.5 * (dm[0][1] + dm[1][0]);
+    dm[0][1] = d12;
+    dm[1][0] = d12;
+    dm
+}
+
+/// The element tangent `K = Σ Bᵀ D B + geometric + shear` from the columns gathered over the
+/// Gauss points (`bt`, `wbt` = D-weighted), the node pairs' geometric stiffness and the shear
+/// law's upper triangle.
+#[inline]
+fn assemble_tangent(
+    bt: &[[f64; 2 * GAUSS]; 12],
+    wbt: &[[f64; 2 * GAUSS]; 12],
+    geometric: &[[f64; 4]; 4],
+    k_shear: &[[f64; 12]; 12],
+    k: &mut [[f64; 12]; 12],
+) {
     for i in 0..12 {
         for j in i..12 {
             let mut v = 0.0;
@@ -373,8 +386,8 @@ pub fn evaluate(
                 v += geometric[i / 3][j / 3];
             }
             v += k_shear[i][j];
-            out.k[i][j] = v;
-            out.k[j][i] = v;
+            k[i][j] = v;
+            k[j][i] = v;
         }
     }
 }

@@ -50,11 +50,6 @@ impl CellParams {
         b: 0.25,
         undulation: true,
     };
-
-    /// The initial in-plane area of one cell for yarns at angle `yarn_angle` (rad), mm².
-    pub fn cell_area(&self, yarn_angle: f64) -> f64 {
-        self.l0[0] * self.l0[1] * yarn_angle.sin().abs()
-    }
 }
 
 /// The crimp state of one cell: the warp crown height `h1` (mm) and the closure `s` (mm).

@@ -46,12 +46,6 @@ impl Mesh {
         }
     }
 
-    /// Node `(i, j)` of a yarn grid.
-    pub fn grid_node(&self, i: usize, j: usize) -> usize {
-        let n = self.grid.expect("a yarn-grid mesh");
-        j * (n[0] + 1) + i
-    }
-
     pub fn dofs(&self) -> usize {
         3 * self.nodes.len()
     }

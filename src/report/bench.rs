@@ -2,27 +2,7 @@
 
 use std::fmt::Write as _;
 
-use crate::study::bench::{BoxRun, Rate};
-
-/// Everything one `bench` measured.
-pub struct BenchReport {
-    /// Repetitions of the law and element rates, and of each drawing.
-    pub reps: usize,
-    pub box_reps: usize,
-    /// The law's and the element's evaluation rates.
-    pub rates: [Rate; 2],
-    /// The timed drawings: the open box first, then the tight box, then the open box at μ 0.05.
-    pub drawings: Vec<(&'static str, BoxRun)>,
-    /// Dofs and wall time (s) of the open box over a mesh ladder, and the exponent of the fit.
-    pub ladder: Vec<(usize, f64)>,
-    pub exponent: f64,
-    /// Designs per minute with one and with two jobs.
-    pub sweep_per_min: [f64; 2],
-    /// How friction is resolved in a step (empty unless asked for).
-    pub friction: Vec<(String, Result<BoxRun, String>)>,
-    /// STL tools against analytic ones (empty unless asked for).
-    pub mesh: Vec<Result<crate::study::mesh_bench::MeshRun, String>>,
-}
+use crate::study::bench::{BoxRun, Measured};
 
 fn run_json(name: &str, r: &BoxRun) -> serde_json::Value {
     serde_json::json!({
@@ -45,9 +25,9 @@ fn range(samples: &[f64]) -> (f64, f64) {
     (lo, hi)
 }
 
-impl BenchReport {
+impl Measured {
     fn open(&self) -> &BoxRun {
-        &self.drawings[0].1
+        &self.drawings.open
     }
 
     /// One JSON object (scripts rely on `open_box_standard_wall_s`,
@@ -66,9 +46,9 @@ impl BenchReport {
             "newton_iteration_s": open.iteration_s(),
             "bare_factor_solve_s": open.bare_factor_solve_s,
             "iteration_over_factor_solve": open.iteration_over_factor_solve(),
-            "tight_box_standard_wall_s": self.drawings[1].1.wall_s,
-            "open_box_friction_0_05_wall_s": self.drawings[2].1.wall_s,
-            "drawings": self.drawings.iter().map(|(n, r)| run_json(n, r)).collect::<Vec<_>>(),
+            "tight_box_standard_wall_s": self.drawings.tight.wall_s,
+            "open_box_friction_0_05_wall_s": self.drawings.open_low_friction.wall_s,
+            "drawings": self.drawings.named().iter().map(|(n, r)| run_json(n, r)).collect::<Vec<_>>(),
             "friction_resolution": self.friction.iter().map(|(n, r)| match r {
                 Ok(r) => run_json(n, r),
                 Err(e) => serde_json::json!({"name": n, "failure": e}),
@@ -107,7 +87,7 @@ impl BenchReport {
                 r.name, r.per_second
             );
         }
-        for (name, run) in &self.drawings {
+        for (name, run) in self.drawings.named() {
             let (lo, hi) = range(&run.samples);
             let _ = writeln!(
                 out,

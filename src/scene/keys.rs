@@ -4,7 +4,6 @@
 //! unknown ones by name; the `[tools]` table holds the keys of all three punches, so the keys
 //! of a punch other than `tools.kind` are rejected here.
 
-use super::overrides::Override;
 use super::types::ToolKind;
 use super::{Scene, SceneError};
 
@@ -77,11 +76,12 @@ impl ToolKind {
 impl Scene {
     /// Rejects `[tools]` keys of another kind of punch (they would be silently ignored). When
     /// `tools.kind` itself comes from `--set`, the file's keys for the old kind are blamed on
-    /// that `--set`: switching a box scene to a hemisphere would drop its r, rp and side.
+    /// that `--set` (`kind_set`, its `KEY=VALUE`): switching a box scene to a hemisphere would
+    /// drop its r, rp and side.
     pub(super) fn check_kind_keys(
         &self,
         table: &toml::Table,
-        overrides: &[Override],
+        kind_set: Option<&str>,
         origin: &str,
         origin_of: &dyn Fn(&str) -> String,
     ) -> Result<(), SceneError> {
@@ -89,10 +89,6 @@ impl Scene {
             return Ok(());
         };
         let kind = self.tools.kind;
-        let kind_set = overrides
-            .iter()
-            .rev()
-            .find(|o| o.key == "tools.kind" || o.key == "tools");
         for name in tools.keys() {
             if kind == ToolKind::Mesh && SHARED_TOOL_KEYS.contains(&name.as_str()) {
                 let key = format!("tools.{name}");
@@ -113,7 +109,7 @@ impl Scene {
             let blamed = origin_of(&key);
             if let Some(set) = kind_set.filter(|_| blamed == origin) {
                 return Err(SceneError {
-                    origin: format!("--set {}", set.text),
+                    origin: format!("--set {set}"),
                     detail: format!(
                         "tools.kind = \"{}\" would drop the scene file's {key} (a \"{}\" key): \
                          start from a scene of that kind (presets/hemisphere.toml, \

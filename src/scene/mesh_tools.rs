@@ -21,7 +21,8 @@ use crate::core::tools::mesh_tool::{Limits, MeshTool, PlacementError, Role, foot
 use crate::core::tools::sampled::Box3;
 use crate::core::tools::scale::{self, Setting};
 use crate::core::tools::surface::TriSurface;
-use crate::machine::{memory_budget_bytes, show_bytes};
+use crate::machine::memory_budget_bytes;
+use crate::show::show_bytes;
 
 use super::types::{LoadedTools, ToolKind};
 use super::{Scene, SceneError};
@@ -225,38 +226,7 @@ impl Scene {
         let punch = punch.map_err(|e| named("tools.punch", &t.punch, e))?;
         let die = die.map_err(|e| named("tools.die", &t.die, e))?;
         let stroke = self.process.stroke;
-        let pair_key = (
-            Arc::as_ptr(&punch) as usize,
-            Arc::as_ptr(&die) as usize,
-            stroke.to_bits(),
-        );
-        let checked = pair_cache().lock().unwrap().get(&pair_key).cloned();
-        let checked = checked.unwrap_or_else(|| {
-            let r = MeshTool::check_pair(&punch, &die, stroke).map_err(|e| e.to_string());
-            pair_cache().lock().unwrap().insert(pair_key, r.clone());
-            r
-        });
-        checked.map_err(|e| {
-            let keys = ["tools.punch", "tools.die", "process.stroke"];
-            // The sizes that say whether the punch fits the opening at all.
-            let (lo, hi) = punch.bounds;
-            let opening = die.flange.as_ref().map_or(String::new(), |f| {
-                let [ox, oy] = f.opening_half();
-                format!("; the die's opening reaches ±{ox:.1} mm along x and ±{oy:.1} mm along y")
-            });
-            fail(
-                "tools.punch",
-                &keys,
-                format!(
-                    "tools.punch = \"{}\" and tools.die = \"{}\": {e} (the punch is {:.1} × \
-                     {:.1} mm in plan{opening})",
-                    t.punch,
-                    t.die,
-                    hi[0] - lo[0],
-                    hi[1] - lo[1]
-                ),
-            )
-        })?;
+        self.check_pair(&punch, &die, origin_of)?;
         self.check_blank_on_face(&die, &setting, origin_of)?;
         let [bx, by] = self.blank.size.0;
         let lo = [-0.5 * bx, -0.5 * by, -stroke - 1.0];
@@ -274,6 +244,50 @@ impl Scene {
             smallest_radius_mm,
         });
         Ok(())
+    }
+
+    /// The punch must enter the die's opening over the whole stroke: checked once per pair of
+    /// tools and stroke (the explorer asks at every key).
+    fn check_pair(
+        &self,
+        punch: &Arc<MeshTool>,
+        die: &Arc<MeshTool>,
+        origin_of: &dyn Fn(&[&str]) -> String,
+    ) -> Result<(), SceneError> {
+        let t = &self.tools;
+        let stroke = self.process.stroke;
+        let pair_key = (
+            Arc::as_ptr(punch) as usize,
+            Arc::as_ptr(die) as usize,
+            stroke.to_bits(),
+        );
+        let checked = pair_cache().lock().unwrap().get(&pair_key).cloned();
+        let checked = checked.unwrap_or_else(|| {
+            let r = MeshTool::check_pair(punch, die, stroke).map_err(|e| e.to_string());
+            pair_cache().lock().unwrap().insert(pair_key, r.clone());
+            r
+        });
+        checked.map_err(|e| {
+            let keys = ["tools.punch", "tools.die", "process.stroke"];
+            // The sizes that say whether the punch fits the opening at all.
+            let (lo, hi) = punch.bounds;
+            let opening = die.flange.as_ref().map_or(String::new(), |f| {
+                let [ox, oy] = f.opening_half();
+                format!("; the die's opening reaches ±{ox:.1} mm along x and ±{oy:.1} mm along y")
+            });
+            SceneError {
+                origin: origin_of(&keys),
+                key: Some("tools.punch".to_string()),
+                detail: format!(
+                    "tools.punch = \"{}\" and tools.die = \"{}\": {e} (the punch is {:.1} × \
+                     {:.1} mm in plan{opening})",
+                    t.punch,
+                    t.die,
+                    hi[0] - lo[0],
+                    hi[1] - lo[1]
+                ),
+            }
+        })
     }
 
     /// The blank's edge must rest on the die's face (where the holder presses it).

@@ -149,7 +149,10 @@ impl Scene {
                 let message = e.inner().message().to_string();
                 structural_error(&path, &message, &table, &origin_of)
             })?;
-        scene.check_kind_keys(&table, overrides, origin, &origin_of)?;
+        let kind_set = (overrides.iter().rev())
+            .find(|o| o.key == "tools.kind" || o.key == "tools")
+            .map(|o| o.text.as_str());
+        scene.check_kind_keys(&table, kind_set, origin, &origin_of)?;
         scene.validate_with(&|keys: &[&str]| blame(overrides, origin, keys))?;
         if scene.tools.kind == ToolKind::Mesh {
             scene.read_mesh_tools(origin, &|keys: &[&str]| blame(overrides, origin, keys))?;

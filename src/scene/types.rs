@@ -3,6 +3,8 @@
 
 use std::fmt;
 
+pub use crate::show::Num;
+
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::core::drawing::{DrawingProblem, Tooling};
@@ -89,22 +91,6 @@ impl fmt::Display for PlanPair {
 impl fmt::Display for PerYarn {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "[{}, {}]", Num(self.0[0]), Num(self.0[1]))
-    }
-}
-
-/// A number as a person reads it in a message: `1e308` rather than 309 digits, `1e-9` rather
-/// than nine zeros, never `-0`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Num(pub f64);
-
-impl fmt::Display for Num {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let v = self.0 + 0.0; // -0.0 + 0.0 is 0.0
-        if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
-            write!(f, "{v:e}")
-        } else {
-            write!(f, "{v}")
-        }
     }
 }
 

@@ -3,10 +3,12 @@
 use std::hint::black_box;
 use std::time::Instant;
 
+use super::timing::{median, preset};
 use crate::accuracy::Accuracy;
 use crate::core::element::{self, ElementGeometry, ElementOutput, GAUSS};
 use crate::core::law::{CellLaw, CellParams};
-use crate::presets::{PAPER_BOX_OPEN, PAPER_BOX_TIGHT, explorer_sweep};
+use crate::presets::{PAPER_BOX_OPEN, PAPER_BOX_TIGHT};
+use crate::study::sweep::embedded::explorer_sweep;
 
 /// One measured rate.
 #[derive(Clone, Debug)]
@@ -16,16 +18,6 @@ pub struct Rate {
     pub per_second: f64,
     /// All repetitions, evaluations per second.
     pub samples: Vec<f64>,
-}
-
-pub(crate) fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 fn measure(name: &'static str, repetitions: usize, mut run: impl FnMut() -> usize) -> Rate {
@@ -98,23 +90,6 @@ pub fn element_rate(repetitions: usize) -> Rate {
     })
 }
 
-/// A preset as a problem on one thread, with overrides (`KEY=VALUE`).
-pub(crate) fn preset(
-    text: &str,
-    name: &str,
-    overrides: &[&str],
-) -> crate::core::drawing::DrawingProblem {
-    let overrides: Vec<crate::scene::Override> = overrides
-        .iter()
-        .map(|o| o.parse().expect("a valid override"))
-        .collect();
-    let scene = crate::scene::Scene::from_toml_str(text, name, &overrides)
-        .expect("the embedded preset is valid");
-    let mut p = scene.to_problem();
-    p.solver.parallel = false;
-    p
-}
-
 /// The paper's open box (the preset) at an element size, as a problem on one thread.
 pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
     let mut p = preset(PAPER_BOX_OPEN, "presets/paper-box-open.toml", &[]);
@@ -122,24 +97,121 @@ pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
     p
 }
 
-/// The drawings the benchmark times, each at `standard` (2.5 mm elements), on one thread.
-pub fn cases() -> Vec<(&'static str, crate::core::drawing::DrawingProblem)> {
+/// The drawings the benchmark times, each at `standard` (2.5 mm elements), on one thread:
+/// the open box, the tight box and the open box at μ 0.05, with their names.
+pub fn cases() -> [(&'static str, crate::core::drawing::DrawingProblem); 3] {
     let (open, tight) = (PAPER_BOX_OPEN, PAPER_BOX_TIGHT);
-    vec![
-        ("open box", preset(open, "presets/paper-box-open.toml", &[])),
+    let open_file = "presets/paper-box-open.toml";
+    [
+        ("open box", preset(open, open_file, &[])),
         (
             "tight box (5/6/5)",
             preset(tight, "presets/paper-box-tight.toml", &[]),
         ),
         (
             "open box, friction 0.05",
-            preset(
-                open,
-                "presets/paper-box-open.toml",
-                &["process.friction=0.05"],
-            ),
+            preset(open, open_file, &["process.friction=0.05"]),
         ),
     ]
+}
+
+/// The timed drawings of [`cases`], each by its name.
+#[derive(Clone, Debug)]
+pub struct Drawings {
+    pub open: BoxRun,
+    pub tight: BoxRun,
+    pub open_low_friction: BoxRun,
+    /// Their names, in that order.
+    pub names: [&'static str; 3],
+}
+
+impl Drawings {
+    /// Each with its name: the open box, the tight box, the open box at μ 0.05.
+    pub fn named(&self) -> [(&'static str, &BoxRun); 3] {
+        let [a, b, c] = self.names;
+        [
+            (a, &self.open),
+            (b, &self.tight),
+            (c, &self.open_low_friction),
+        ]
+    }
+}
+
+/// What `wovenform bench` measures besides the rates and drawings it always times.
+#[derive(Clone, Copy, Debug)]
+pub struct BenchOptions {
+    /// Repetitions of the law and element rates (the drawings take at most 5).
+    pub repetitions: usize,
+    /// Also compare how friction is resolved within a step.
+    pub friction: bool,
+    /// Also time tools read from STL against the same analytic tools.
+    pub mesh: bool,
+}
+
+/// Everything one `bench` measured.
+pub struct Measured {
+    /// Repetitions of the law and element rates, and of each drawing.
+    pub reps: usize,
+    pub box_reps: usize,
+    /// The law's and the element's evaluation rates.
+    pub rates: [Rate; 2],
+    pub drawings: Drawings,
+    /// Dofs and wall time (s) of the open box over a mesh ladder, and the exponent of the fit.
+    pub ladder: Vec<(usize, f64)>,
+    pub exponent: f64,
+    /// Designs per minute with one and with two jobs.
+    pub sweep_per_min: [f64; 2],
+    /// How friction is resolved in a step (empty unless asked for).
+    pub friction: Vec<(String, Result<BoxRun, String>)>,
+    /// STL tools against analytic ones (empty unless asked for).
+    pub mesh: Vec<Result<crate::study::mesh_bench::MeshRun, String>>,
+}
+
+/// Measures everything `o` asks for; `note(what)` hears each measurement start. An error names
+/// the drawing (or the sweep) that failed.
+pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, String> {
+    let reps = o.repetitions;
+    note("the law and the element");
+    let rates = [law_rate(reps), element_rate(reps)];
+    let box_reps = reps.min(5);
+    let mut runs = Vec::new();
+    for (name, problem) in cases() {
+        note(&format!("the {name} at standard accuracy"));
+        runs.push(drawing_run(&problem, box_reps).map_err(|e| format!("{name}: {e}"))?);
+    }
+    let [open, tight, open_low_friction] = <[BoxRun; 3]>::try_from(runs).expect("three cases");
+    let names = cases().map(|(n, _)| n);
+    note("wall time against dofs (5, 3.5, 2.5, 1.75 mm)");
+    let (ladder, exponent) = dof_scaling(&[5.0, 3.5, 2.5, 1.75]);
+    note("sweep throughput with 1 and 2 jobs");
+    let sweep_per_min = [sweep_throughput(1)?, sweep_throughput(2)?];
+    let mut friction = Vec::new();
+    if o.friction {
+        note("friction resolved within the step against lagged, on the open box");
+        friction = friction_resolution(box_reps.min(3));
+    }
+    let mut mesh = Vec::new();
+    if o.mesh {
+        note("STL tools against the analytic ones (open box, tight box, hemisphere)");
+        mesh = crate::study::mesh_bench::mesh_tools(box_reps.min(3));
+    }
+    let drawings = Drawings {
+        open,
+        tight,
+        open_low_friction,
+        names,
+    };
+    Ok(Measured {
+        reps,
+        box_reps,
+        rates,
+        drawings,
+        ladder,
+        exponent,
+        sweep_per_min,
+        friction,
+        mesh,
+    })
 }
 
 /// One drawing's runs: its counters, its wall times, and (on its final state) where one Newton

@@ -75,6 +75,61 @@ pub enum LadderError {
         shown: String,
         what: String,
     },
+    /// A rung of the mesh ladder breaks a bound of the scene (or this machine's memory).
+    #[error("--sizes {size}: {detail}")]
+    Rung { size: f64, detail: String },
+}
+
+/// The two ladders a convergence study climbs: element sizes coarse to fine, mm, and least
+/// load-step counts few to many.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ladders {
+    pub sizes_mm: Vec<f64>,
+    pub steps: Vec<u32>,
+}
+
+impl Ladders {
+    /// The ladders asked for, an empty one taking its default (the scene's element size times
+    /// 2, √2, 1, 1/√2, 1/2; 4, 8, 16, 32, 64 steps), checked: each rung of the mesh ladder is
+    /// the scene at that size, within the scene's bounds and this machine's memory, before any
+    /// rung is solved.
+    pub fn new(scene: &Scene, sizes_mm: &[f64], steps: &[u32]) -> Result<Ladders, LadderError> {
+        let h = scene.mesh.element_size;
+        let sizes_mm = if sizes_mm.is_empty() {
+            [2.0, 2f64.sqrt(), 1.0, 0.5f64.sqrt(), 0.5]
+                .iter()
+                .map(|k| (h * k * 1000.0).round() / 1000.0)
+                .collect()
+        } else {
+            sizes_mm.to_vec()
+        };
+        let steps = if steps.is_empty() {
+            vec![4, 8, 16, 32, 64]
+        } else {
+            steps.to_vec()
+        };
+        check_sizes(&sizes_mm)?;
+        for &size in &sizes_mm {
+            let mut rung = scene.clone();
+            rung.mesh.element_size = size;
+            rung.validate("").map_err(|e| LadderError::Rung {
+                size,
+                detail: e.detail,
+            })?;
+        }
+        check_steps(&steps)?;
+        Ok(Ladders { sizes_mm, steps })
+    }
+
+    /// Solves in all.
+    pub fn len(&self) -> usize {
+        self.sizes_mm.len() + self.steps.len()
+    }
+
+    /// No rung (never, once checked).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
 fn shown<T: ToString>(values: &[T]) -> String {
@@ -292,16 +347,6 @@ impl Ladder {
             100.0 * bound / value.abs().max(1e-12)
         } else {
             bound
-        }
-    }
-
-    /// The reference's uncertainty of figure `k`, in the unit of [`Ladder::error`].
-    pub fn reference_uncertainty(&self, k: usize) -> f64 {
-        let r = &self.reference[k];
-        if FIGURES[k].ends_with("_n") {
-            100.0 * r.uncertainty / r.value.abs().max(1e-12)
-        } else {
-            r.uncertainty
         }
     }
 }

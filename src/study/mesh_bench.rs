@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use super::bench::median;
+use super::timing::{median, preset};
 use crate::core::drawing::{DrawingProblem, DrawingResult, Symmetry};
 use crate::core::tools::capped::tool_surfaces;
 use crate::presets::{PAPER_BOX_OPEN, PAPER_BOX_TIGHT};
@@ -68,7 +68,7 @@ pub fn departures(a: &DrawingResult, b: &DrawingResult) -> [f64; 3] {
 }
 
 fn compare(name: &'static str, text: &str, repetitions: usize) -> Result<MeshRun, String> {
-    let mut p: DrawingProblem = super::bench::preset(text, name, &[]);
+    let mut p: DrawingProblem = preset(text, name, &[]);
     p.symmetry = Symmetry::Full;
     let coarse = tool_surfaces(&p.tooling, p.blank, p.stroke, 2.0);
     let spacing_mm = [

@@ -3,7 +3,11 @@
 //! measurements) and gives plain data back; what they draw or print is in [`crate::report`].
 pub mod bench;
 pub mod converge;
+pub mod draw;
+pub mod estimate;
 pub mod fit;
 pub mod mesh_bench;
 pub mod slurm;
 pub mod sweep;
+pub mod tessellation;
+pub mod timing;

@@ -29,7 +29,7 @@ impl Source {
     /// The plan of `doc` (this source's document, edited) with `sets`.
     fn plan(&self, doc: &toml::Table, sets: &[String]) -> Result<Plan, String> {
         let plan = if self.embedded {
-            presets::plan(&self.path, doc, sets)
+            crate::study::sweep::embedded::plan(&self.path, doc, sets)
         } else {
             Plan::from_document(&self.path, doc, sets)
         };

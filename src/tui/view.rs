@@ -243,7 +243,7 @@ fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
         let state = match &app.run {
             RunState::Idle => {
                 // A rough figure (the mesh and the stroke), one core a design.
-                let each = crate::accuracy::run_seconds_estimate(&app.params.plan.base_scene);
+                let each = crate::study::estimate::run_seconds(&app.params.plan.base_scene);
                 Line::raw(format!(
                     "ready: r runs {total} designs, about {} each",
                     show_duration(each.max(1.0))

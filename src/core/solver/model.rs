@@ -198,15 +198,6 @@ impl Model {
         })
     }
 
-    /// Scales the damping of the Newton corrections (the cells' tensile stiffness by default)
-    /// by `factor`: a problem whose load is carried by a much softer term (a bias test held by
-    /// the shear law alone) damps at that term's scale, or its corrections crawl.
-    pub fn scale_damping(&mut self, factor: f64) {
-        for k in &mut self.cell_stiffness {
-            *k *= factor;
-        }
-    }
-
     /// Free (solved-for) dofs.
     pub fn free_dofs(&self) -> usize {
         self.linear.n()

@@ -14,6 +14,7 @@
 //! ```
 
 pub mod capped;
+mod closed;
 pub mod double_dome;
 pub mod flange;
 pub mod intersect;

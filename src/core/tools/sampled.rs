@@ -19,7 +19,7 @@
 //! nodes, the same page centres), so that clipping changes no value.
 
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use super::nearest::ExactDistance;
 use super::surface::TriSurface;
@@ -102,7 +102,6 @@ pub struct SampledDistance {
     pages: Vec<Page>,
     lo: V3,
     hi: V3,
-    computed: AtomicUsize,
 }
 
 /// The distance at a point, its gradient and (when asked) its Hessian.
@@ -194,7 +193,6 @@ impl SampledDistance {
             pages,
             lo,
             hi,
-            computed: AtomicUsize::new(0),
         }
     }
 
@@ -212,11 +210,6 @@ impl SampledDistance {
     /// The lattice spacing, mm.
     pub fn spacing(&self) -> f64 {
         self.spacing
-    }
-
-    /// How many samples have been computed so far.
-    pub fn samples_computed(&self) -> usize {
-        self.computed.load(Ordering::Relaxed)
     }
 
     fn page_index(&self, page: [usize; 3]) -> usize {
@@ -257,7 +250,6 @@ impl SampledDistance {
         let x = [0, 1, 2].map(|a| self.origin[a] + (self.first[a] + i[a]) as f64 * self.spacing);
         let d = self.exact.query(x).d;
         samples[local].store((d as f32).to_bits(), Ordering::Relaxed);
-        self.computed.fetch_add(1, Ordering::Relaxed);
         d
     }
 

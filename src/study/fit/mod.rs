@@ -11,6 +11,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::core::law::{CellLaw, CellParams};
 
 mod identify;
+pub mod refine;
 mod samples;
 pub mod shear;
 
@@ -186,43 +187,18 @@ pub fn fit(
             converged = true;
             break;
         }
-        let mut accepted = false;
-        while lambda < 1e16 {
-            let mut a = jtj.clone();
-            for k in 0..n_par {
-                a[(k, k)] += lambda * jtj[(k, k)].max(1e-12 * diag_max);
-            }
-            let step = match a.clone().cholesky() {
-                Some(ch) => ch.solve(&(-&g)),
-                None => match a.lu().solve(&(-&g)) {
-                    Some(s) => s,
-                    None => {
-                        lambda *= 4.0;
-                        continue;
-                    }
-                },
-            };
-            let x_new = &x + &step;
-            let r_new = model.residuals(&x_new);
-            let cost_new = 0.5 * r_new.norm_squared();
-            if cost_new.is_finite() && cost_new < cost {
-                let small_step = step.amax() <= 1e-10;
-                let small_gain = cost - cost_new <= 1e-12 * cost;
-                x = x_new;
-                r = r_new;
-                cost = cost_new;
-                lambda = (lambda / 3.0).max(1e-12);
-                accepted = true;
-                converged = small_step || small_gain;
-                break;
-            }
-            lambda *= 4.0;
-        }
-        if !accepted {
+        let Some((x_new, r_new, cost_new, small_step)) =
+            damped_step(&model, &x, cost, (&jtj, &g, diag_max), &mut lambda)
+        else {
             // No step reduces the cost any more: a minimum to machine precision.
             converged = true;
             break;
-        }
+        };
+        let small_gain = cost - cost_new <= 1e-12 * cost;
+        x = x_new;
+        r = r_new;
+        cost = cost_new;
+        converged = small_step || small_gain;
         iterations += 1;
     }
     let params = model.params(&x);
@@ -249,6 +225,44 @@ pub fn fit(
         converged,
         checks,
     })
+}
+
+/// One Levenberg–Marquardt step from `x` (of cost `cost`, with the normal matrix `JᵀJ`, the
+/// gradient `Jᵀr` and the largest diagonal of `JᵀJ`): the damping `lambda` raised until the
+/// cost falls, then eased. The new point, its residuals and cost, and whether the step was
+/// tiny; `None` when no damping reduces the cost.
+fn damped_step(
+    model: &Model,
+    x: &DVector<f64>,
+    cost: f64,
+    (jtj, g, diag_max): (&DMatrix<f64>, &DVector<f64>, f64),
+    lambda: &mut f64,
+) -> Option<(DVector<f64>, DVector<f64>, f64, bool)> {
+    while *lambda < 1e16 {
+        let mut a = jtj.clone();
+        for k in 0..jtj.nrows() {
+            a[(k, k)] += *lambda * jtj[(k, k)].max(1e-12 * diag_max);
+        }
+        let step = match a.clone().cholesky() {
+            Some(ch) => ch.solve(&(-g)),
+            None => match a.lu().solve(&(-g)) {
+                Some(s) => s,
+                None => {
+                    *lambda *= 4.0;
+                    continue;
+                }
+            },
+        };
+        let x_new = x + &step;
+        let r_new = model.residuals(&x_new);
+        let cost_new = 0.5 * r_new.norm_squared();
+        if cost_new.is_finite() && cost_new < cost {
+            *lambda = (*lambda / 3.0).max(1e-12);
+            return Some((x_new, r_new, cost_new, step.amax() <= 1e-10));
+        }
+        *lambda *= 4.0;
+    }
+    None
 }
 
 #[cfg(test)]

@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::folder_error::{StoreError, write_atomic};
 use super::grid::Design;
 use super::rows::round_to;
-use super::store::{StoreError, write_atomic};
 use crate::core::drawing::{DrawingResult, Tooling};
 use crate::summary::{RunSummary, shear_subtitle};
 

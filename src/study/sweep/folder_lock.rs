@@ -12,7 +12,7 @@ use std::io::{Read as _, Seek as _, Write as _};
 use std::path::{Path, PathBuf};
 
 use super::SweepError;
-use super::store::StoreError;
+use super::folder_error::StoreError;
 
 /// The lock file's name in the output folder.
 pub const LOCK_FILE: &str = "sweep.pid";

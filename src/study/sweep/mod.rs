@@ -33,7 +33,9 @@
 //! there), refuses a folder swept with another base scene, and runs the rest. Shard `I/N` runs
 //! the designs whose index is `I − 1` modulo `N`; [`merge`] puts shard folders back together.
 
+pub mod embedded;
 mod field;
+mod folder_error;
 mod folder_lock;
 mod grid;
 mod merge;
@@ -45,14 +47,15 @@ mod store;
 mod values;
 
 pub use field::StoredField;
+pub use folder_error::{StoreError, write_atomic};
 pub use folder_lock::{FolderLock, LOCK_FILE};
 pub use grid::{Column, Design};
 pub use merge::merge;
 pub use plan::{Axis, Plan, SHORT_NAMES};
 pub use rows::{Counts, FIGURE_COLUMNS, Row, column_names, counts, csv_header};
-pub use run::{Options, Outcome, Progress, pool, run};
+pub use run::{Options, Outcome, Progress, cores, pool, run, workers_for};
 pub use shard::Shard;
-pub use store::{ReadReport, StoreError, holds_this_sweep, read_lock, write_atomic};
+pub use store::{ReadReport, holds_this_sweep, read_lock};
 pub use values::{as_number, fnv_hex, show_value, unit_of};
 
 /// Why a sweep did not go through: bad input, found before any work (exit 2), or a failure

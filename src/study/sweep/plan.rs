@@ -384,42 +384,13 @@ fn axis_values(
             list.clone()
         }
         toml::Value::Table(t) => {
-            for k in t.keys() {
-                if !RANGE_KEYS.contains(&k.as_str()) {
-                    return Err(format!(
-                        "sweep.{name}.{k}: unknown key in a range; expected {{ start = 5.0, stop = 10.0, count = 3 }}"
-                    ));
-                }
-            }
-            let num = |k: &str| -> Result<f64, String> {
-                t.get(k).and_then(as_number).filter(|v| v.is_finite()).ok_or_else(|| {
-                    format!("sweep.{name}: a range needs {k} = a number; expected {{ start = 5.0, stop = 10.0, count = 3 }}")
-                })
-            };
-            let (start, stop) = (num("start")?, num("stop")?);
-            let count = match t.get("count") {
-                Some(toml::Value::Integer(c)) if (1..=10_000).contains(c) => *c as usize,
-                _ => {
-                    return Err(format!(
-                        "sweep.{name}: a range needs count = a whole number from 1 to 10000 (both ends are included)"
-                    ));
-                }
-            };
+            let values = range_values(name, t)?;
             if as_number(base).is_none() {
                 return Err(format!(
                     "sweep.{name}: a range of numbers, but {key} takes {expected}; give a list instead"
                 ));
             }
-            (0..count)
-                .map(|i| {
-                    let v = if count == 1 {
-                        start
-                    } else {
-                        start + (stop - start) * i as f64 / (count - 1) as f64
-                    };
-                    toml::Value::Float(tidy(v))
-                })
-                .collect()
+            values
         }
         one => vec![one.clone()],
     };
@@ -443,6 +414,42 @@ fn axis_values(
         }
     }
     Ok(values)
+}
+
+/// The values of a range `{ start, stop, count }` (both ends included, count from 1 to
+/// 10,000), named `sweep.{name}` in errors.
+fn range_values(name: &str, t: &toml::Table) -> Result<Vec<toml::Value>, String> {
+    for k in t.keys() {
+        if !RANGE_KEYS.contains(&k.as_str()) {
+            return Err(format!(
+                "sweep.{name}.{k}: unknown key in a range; expected {{ start = 5.0, stop = 10.0, count = 3 }}"
+            ));
+        }
+    }
+    let num = |k: &str| -> Result<f64, String> {
+        t.get(k).and_then(as_number).filter(|v| v.is_finite()).ok_or_else(|| {
+            format!("sweep.{name}: a range needs {k} = a number; expected {{ start = 5.0, stop = 10.0, count = 3 }}")
+        })
+    };
+    let (start, stop) = (num("start")?, num("stop")?);
+    let count = match t.get("count") {
+        Some(toml::Value::Integer(c)) if (1..=10_000).contains(c) => *c as usize,
+        _ => {
+            return Err(format!(
+                "sweep.{name}: a range needs count = a whole number from 1 to 10000 (both ends are included)"
+            ));
+        }
+    };
+    Ok((0..count)
+        .map(|i| {
+            let v = if count == 1 {
+                start
+            } else {
+                start + (stop - start) * i as f64 / (count - 1) as f64
+            };
+            toml::Value::Float(tidy(v))
+        })
+        .collect())
 }
 
 #[cfg(test)]

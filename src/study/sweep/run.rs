@@ -84,6 +84,17 @@ pub struct Outcome {
     pub lock: Option<FolderLock>,
 }
 
+/// The cores of this machine (1 when it cannot be told).
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The designs run at once for `jobs` asked: no more than the designs or the cores (more
+/// would only start idle or competing threads); 0 stays 0, which [`pool`] refuses.
+pub fn workers_for(jobs: usize, designs: usize) -> usize {
+    jobs.min(designs.max(1)).min(cores().max(1))
+}
+
 /// The threads that run designs (or draw maps) at once; `None`: every core.
 pub fn pool(jobs: Option<usize>) -> Result<rayon::ThreadPool, SweepError> {
     if jobs == Some(0) {
@@ -113,7 +124,27 @@ struct SinkState {
     path: PathBuf,
 }
 
-impl Sink<'_> {
+impl<'a> Sink<'a> {
+    /// A sink that appends rows to `file` (at `path`) and tells `progress`, of `total` rows.
+    fn new(
+        file: fs::File,
+        path: PathBuf,
+        progress: &'a (dyn Fn(Progress) + Sync),
+        total: usize,
+    ) -> Sink<'a> {
+        Sink {
+            state: Mutex::new(SinkState {
+                file,
+                rows: Vec::new(),
+                feasible: 0,
+                error: None,
+                path,
+            }),
+            progress,
+            total,
+        }
+    }
+
     fn push(&self, row: Row) {
         let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
         let line = row.to_csv();
@@ -224,17 +255,12 @@ pub fn run(
         invalid: invalid.len(),
         note: note.as_deref(),
     });
-    let sink = Sink {
-        state: Mutex::new(SinkState {
-            file,
-            rows: Vec::new(),
-            feasible: 0,
-            error: None,
-            path: dir.join("results.csv"),
-        }),
+    let sink = Sink::new(
+        file,
+        dir.join("results.csv"),
         progress,
-        total: valid.len() + invalid.len(),
-    };
+        valid.len() + invalid.len(),
+    );
     for row in invalid {
         sink.push(row);
     }
@@ -258,9 +284,7 @@ pub fn run(
     if let Some(e) = state.error {
         return Err(SweepError::Run(e));
     }
-    let ran = state
-        .rows
-        .iter()
+    let ran = (state.rows.iter())
         .filter(|r| r.verdict != Verdict::Invalid)
         .count();
     let mut rows = kept_rows;

@@ -10,63 +10,12 @@ use serde::{Deserialize, Serialize};
 
 use super::SweepError;
 use super::field::StoredField;
+use super::folder_error::{StoreError, write_atomic};
 use super::grid::Design;
 use super::plan::Plan;
 use super::rows::{Row, column_names, csv_header, round_to};
 use super::shard::Shard;
 use crate::verdict::Verdict;
-
-/// Why the folder could not be read or written.
-#[derive(Debug, thiserror::Error)]
-pub enum StoreError {
-    #[error("{}: cannot {action}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        action: &'static str,
-        #[source]
-        source: std::io::Error,
-    },
-    #[error("{}: {source}", path.display())]
-    NoLock {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    #[error("{}: not a sweep lock file: {source}", path.display())]
-    BadLock {
-        path: PathBuf,
-        #[source]
-        source: serde_json::Error,
-    },
-    #[error(
-        "{}: the header has {problem}; expected the columns {expected} (the header was edited: restore it, or remove the folder to start again)",
-        path.display()
-    )]
-    Header {
-        path: PathBuf,
-        /// What is wrong: the column found that a sweep does not write, or the one missing.
-        problem: String,
-        expected: String,
-    },
-    #[error("{}: {source}", path.display())]
-    Field {
-        path: PathBuf,
-        #[source]
-        source: Box<dyn std::error::Error + Send + Sync>,
-    },
-}
-
-impl StoreError {
-    /// The error maker for a failed `action` ("write", "read", …) on `path`.
-    pub fn io(path: &Path, action: &'static str) -> impl FnOnce(std::io::Error) -> StoreError {
-        let path = path.to_path_buf();
-        move |source| StoreError::Io {
-            path,
-            action,
-            source,
-        }
-    }
-}
 
 /// What `sweep.lock` holds.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -89,12 +38,6 @@ pub fn read_lock(dir: &Path) -> Result<Lock, StoreError> {
         }
     })?;
     serde_json::from_str(&text).map_err(|source| StoreError::BadLock { path, source })
-}
-
-/// Writes `text` to `path` through a temporary file in the same folder and a rename (never
-/// half a file).
-pub fn write_atomic(path: &Path, text: &str) -> Result<(), StoreError> {
-    crate::files::write_atomic(path, text.as_bytes()).map_err(StoreError::io(path, "write"))
 }
 
 /// Creates `dir`, `dir/maps` and `dir/fields` and writes `dir/sweep.lock`.
