@@ -34,6 +34,7 @@
 pub mod accuracy;
 pub mod core;
 pub mod files;
+pub mod guide;
 pub mod machine;
 pub mod presets;
 pub mod publish;
