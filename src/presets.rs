@@ -23,7 +23,7 @@ const SCENES: [(&str, &str); 2] = [
 /// (its export folder is `paper-box-explorer-export`).
 pub const EXPLORER_NAME: &str = "paper-box-explorer";
 
-/// The explorer's default sweep as a sweep document; its `base` is one of [`SCENES`], which
+/// The explorer's default sweep as a sweep document; its `base` is one of `SCENES`, which
 /// [`plan`] reads from the binary, nothing from the disk.
 pub fn explorer_document() -> toml::Table {
     let doc: toml::Table = PAPER_BOX_EXPLORER
@@ -37,7 +37,7 @@ pub fn explorer_document() -> toml::Table {
     doc
 }
 
-/// The plan of a sweep document whose `base` may be a scene the binary carries ([`SCENES`]).
+/// The plan of a sweep document whose `base` may be a scene the binary carries (`SCENES`).
 pub fn plan(path: &Path, doc: &toml::Table, sets: &[String]) -> Result<Plan, SweepError> {
     Plan::from_document_with(path, doc, sets, &SCENES)
 }
