@@ -138,11 +138,13 @@ mod tests {
 
     /// The rows of the table whose header is `| key | unit | default | bounds |`.
     fn key_rows(page: &str) -> Vec<KeyRow> {
-        let mut lines = page.lines().skip_while(|l| {
-            !l.replace(' ', "")
-                .starts_with("|key|unit|default|bounds|")
-        });
-        assert!(lines.next().is_some(), "scenes.md: no key | unit | default | bounds table");
+        let mut lines = page
+            .lines()
+            .skip_while(|l| !l.replace(' ', "").starts_with("|key|unit|default|bounds|"));
+        assert!(
+            lines.next().is_some(),
+            "scenes.md: no key | unit | default | bounds table"
+        );
         lines
             .skip(1)
             .take_while(|l| l.trim_start().starts_with('|'))
