@@ -6,7 +6,7 @@
 //! from 5 to 15 mm, friction 0.1 to 0.3, holder 0.5 to 2 MPa), the hemisphere and the
 //! ellipsoid, each solved at 5, 2.5 and 1.25 mm (the fine run of one, 5/6/10, fails). Coarse and standard are compared with the
 //! fine answer; the fine level with the 1.77 mm rung and with the exact-disc extrapolation of
-//! the README ("Accuracy and speed"). The largest distances found:
+//! `guide::findings` ("Accuracy and speed"). The largest distances found:
 //!
 //! | level | shear | tension | punch force |
 //! |---|---|---|---|

@@ -30,7 +30,7 @@ pub struct RunSummary {
     /// The peak |shear angle|, degrees: the largest mean over a disc of one woven cell
     /// (`cell_mm`, the cell's mean side, as radius) around an element, in the undeformed blank;
     /// and where (final position of that element's centre, mm, in the solved part). It is what
-    /// the verdict compares with the locking angle (README, "Accuracy and speed").
+    /// the verdict compares with the locking angle (`guide::accuracy`).
     pub max_shear_deg: f64,
     pub max_shear_at: [f64; 3],
     pub locking_angle_deg: f64,
@@ -70,7 +70,7 @@ pub struct RunSummary {
     pub cutbacks: u32,
     pub newton_iterations: u32,
     /// Steps on which Newton stalled even at the smallest increment and that ended within ten
-    /// force tolerances of balance (README, "Accuracy and speed").
+    /// force tolerances of balance (`guide::accuracy`, "Where the fine level stalls").
     pub relaxed_steps: u32,
     /// Work done by forces out of balance over the punch's work (dimensionless): what of the
     /// punch's work is not the paper's model. The stabilisation damps the Newton corrections

@@ -1,5 +1,5 @@
 //! The bias-extension test (`wovenform bias`) against the ideal kinematics of a pin-jointed
-//! net of inextensible yarns (README, "In-plane shear stiffness (beyond the paper)"), and the
+//! net of inextensible yarns (`wovenform::guide::shear_law`, "The bias-extension test"), and the
 //! shear law's fit (`wovenform fit --bias`) against a curve made by a known law and against the
 //! measured curve in `presets/bias-extension/` (its source in `presets/bias-extension/README.md`).
 

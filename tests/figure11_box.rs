@@ -7,7 +7,7 @@
 //! feasible drawing; the shear concentrates "near the corners of the box". And the
 //! verification note's: a rounded box corner carries the total Gaussian curvature π/2 whatever
 //! its radii, so the radii only spread or concentrate the shear, which stays below 90°. (This
-//! model leaves the tight box at 78°, not over 80°: README, "The presets, as run here".)
+//! model leaves the tight box at 78°, not over 80°: `wovenform::guide::findings`, "The presets".)
 //!
 //! ```text
 //!   plan of a quarter (the solved part)          y

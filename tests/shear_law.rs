@@ -1,7 +1,7 @@
 #![allow(clippy::needless_range_loop)]
 //! The in-plane shear law in the woven-cell element: its force and tangent against finite
 //! differences, objectivity, and the pure-shear patch whose energy and reaction are closed
-//! forms (README, "In-plane shear stiffness (beyond the paper)").
+//! forms (`wovenform::guide::shear_law`, "In-plane shear stiffness (beyond the paper)").
 
 mod common;
 use common::Lcg;

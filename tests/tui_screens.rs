@@ -3,7 +3,7 @@
 //! the design count of the grid (2 × 2 × 2), the ETA at a constant pace, the verdict against
 //! the locking angle (60°: 78° is over it, 58.0° under) and the colours of the figures over a
 //! limit, the position of the shear peak in the map (the punch corners), the scene's bound on
-//! an edited value, the paper's open design in the detail, the keys README.md documents.
+//! an edited value, the paper's open design in the detail, the keys src/guide/explorer.md documents.
 
 mod analytic;
 mod tui_common;
@@ -191,7 +191,7 @@ fn large_terminal_shows_the_detail_beside_the_table() {
     snapshot("tui_finished_160x48", &s);
 }
 
-/// The explorer's keys as README.md documents them ("The explorer"), each with a word of what
+/// The explorer's keys as src/guide/explorer.md documents them, each with a word of what
 /// it does: the answer the help screen is checked against.
 const README_KEYS: [(&str, &str); 14] = [
     ("Tab", "parameters"),

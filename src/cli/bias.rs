@@ -37,7 +37,7 @@ pub struct BiasArgs {
     pub points: usize,
     /// Element size along the yarns, mm (the scene's mesh.element_size is for drawing; the
     /// test's zones are uniform: on 120 × 60 mm, 5 mm is within 1.2 % in force and 0.15° of
-    /// 2.5 mm, see README).
+    /// 2.5 mm, see wovenform::guide::shear_law).
     #[arg(long, default_value_t = 5.0, value_name = "MM")]
     pub element_size: f64,
 }

@@ -9,7 +9,7 @@
 //!   fα = Σk dαN^k x^k,       Eαα = ½(|fα|² − 1),       1 + εα = |fα|
 //! ```
 //!
-//! (the Green–Lagrange strain along the yarn, Appendix A, and the exact stretch of `law.md`). When
+//! (the Green–Lagrange strain along the yarn, Appendix A; the exact stretch: [`crate::guide::theory`]). When
 //! the element's natural directions are the yarns, `aα^β = δα^β/|gα0|` and `Eαα = Ēαα/|gα0|²`: the
 //! paper's element. With `S̃α = L0α Tαα/(1+εα)` (the resultant paired with `δEαα`) and `n` cells at a
 //! Gauss point:

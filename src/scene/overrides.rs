@@ -14,7 +14,7 @@ pub struct Override {
     pub key: String,
     pub value: toml::Value,
     /// The text as given, for error messages: line breaks written `\n`, and a long one cut
-    /// to its first characters (see [`excerpt`]).
+    /// to its first characters (see `excerpt`).
     pub text: String,
 }
 

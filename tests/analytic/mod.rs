@@ -230,7 +230,7 @@ pub fn uniform_rms(half_width: f64) -> f64 {
     half_width / 3f64.sqrt()
 }
 
-/// The verdict's definition (README, `feasible`): a converged, sound design is feasible when
+/// The verdict's definition (guide::scenes, `feasible`): a converged, sound design is feasible when
 /// its largest shear (degrees) is within the locking angle and its largest yarn tension (N)
 /// within the breaking tension. The paper's criterion is the first (Figure 11: "the maximum
 /// value of these angular variations are close to 60°").
@@ -238,7 +238,7 @@ pub fn feasible(max_shear_deg: f64, locking_deg: f64, max_tension_n: f64, break_
     max_shear_deg <= locking_deg && max_tension_n <= break_n
 }
 
-/// The verdict with error bands (README, `verdict`): the shear's band is `shear ± err_deg`,
+/// The verdict with error bands (guide::scenes, `verdict`): the shear's band is `shear ± err_deg`,
 /// the tension's `tension · (1 ± err_pct/100)`. `INFEASIBLE` when a band lies wholly over its
 /// limit, `FEASIBLE` when both lie wholly under (or at) their limits, `MARGINAL` when a limit
 /// lies inside a band.

@@ -209,7 +209,7 @@ impl DrawingProblem {
     pub fn unrestrained(&self) -> Option<Unrestrained> {
         // A shear law does not change this: a law as soft as a measured fabric's does not hold
         // the flange (tried with the glass fabric's fitted law: 1000 steps used up at a fifth
-        // of the stroke, README "In-plane shear stiffness").
+        // of the stroke, `guide::shear_law`).
         if self.friction == 0.0 {
             Some(Unrestrained::NoFriction)
         } else if self.holder_pressure == 0.0 {

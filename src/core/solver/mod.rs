@@ -1,12 +1,12 @@
 //! The implicit solver (paper eqs 28–30): Newton's method on the equilibrium of the woven blank
 //! at each load step, the load path walked in steps that grow and cut back.
 //!
-//! - [`model`]: the elements, the dof numbering, the tangent's pattern and the current state;
-//! - [`assembly`]: one configuration into a residual, a merit and a tangent;
-//! - [`correction`]: the Newton correction (sparse Cholesky, GMRES over the non-symmetric rest);
-//! - [`line_search`]: backtracking along the correction;
-//! - [`newton`]: the iterations of one load step;
-//! - [`stepping`]: the load path: predictor, steps, cut-backs.
+//! - `model.rs`: the elements, the dof numbering, the tangent's pattern and the current state;
+//! - `assembly.rs`: one configuration into a residual, a merit and a tangent;
+//! - `correction.rs`: the Newton correction (sparse Cholesky, GMRES over the non-symmetric rest);
+//! - `line_search.rs`: backtracking along the correction;
+//! - `newton.rs`: the iterations of one load step;
+//! - `stepping.rs`: the load path: predictor, steps, cut-backs.
 //!
 //! The paper's fabric has no in-plane shear stiffness and no bending stiffness, so parts of a
 //! sheet can be mechanisms. The Newton corrections are stabilised by a pseudo-transient term:

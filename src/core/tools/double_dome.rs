@@ -13,7 +13,7 @@
 //! R, centres at x = ±c, z = R), taken at z clamped to the equator so that the body above it
 //! is the plan outline extruded upward. The die is a plate (face z = 0) whose opening is that
 //! outline offset by the clearance, its edge rounded with the entry radius, built as the
-//! analytic dies are ([`rounded_intersection`]).
+//! analytic dies are (`rounded_intersection`).
 
 use super::capped::capped_surface;
 use super::surface::TriSurface;
