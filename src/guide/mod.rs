@@ -47,6 +47,9 @@ pub mod verification {}
 pub mod findings {}
 
 #[cfg(test)]
+mod layers;
+
+#[cfg(test)]
 mod tests {
     use std::collections::{BTreeMap, BTreeSet};
     use std::path::{Path, PathBuf};

@@ -1,0 +1,166 @@
+//! The test of the layering that the architecture page states: no file of the library uses a
+//! module of a later layer, and no two files use each other. It reads the sources as text:
+//! each `crate::…`, `super::…` and `self::…` path outside comments and test modules, resolved
+//! to the file that defines it.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+/// The layers, lowest first, as the architecture page numbers them (the guide holds no code).
+const LAYERS: [&[&str]; 8] = [
+    &["core"],
+    &["show", "presets", "files", "machine", "stl"],
+    &["scene"],
+    &["accuracy", "verdict", "summary"],
+    &["study"],
+    &["report"],
+    &["publish"],
+    &["tui", "guide"],
+];
+
+/// The layer of a top-level module.
+fn layer(top: &str) -> Option<usize> {
+    LAYERS.iter().position(|l| l.contains(&top))
+}
+
+/// A file's module path: `core/tools/surface.rs` → `[core, tools, surface]`, a `mod.rs` its
+/// folder's, `lib.rs` the root.
+fn module_of(file: &str) -> Vec<String> {
+    let mut parts: Vec<String> = file
+        .trim_end_matches(".rs")
+        .split('/')
+        .map(String::from)
+        .collect();
+    if matches!(parts.last().map(String::as_str), Some("mod" | "lib")) {
+        parts.pop();
+    }
+    parts
+}
+
+/// The source as it builds the library: no comment lines, nothing from the first test module.
+fn code(text: &str) -> String {
+    let text = text.split("#[cfg(test)]").next().unwrap_or("");
+    text.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The paths a source uses, each as written after its `crate`, `super` or `self` (a group
+/// `{a, b::c}` gives one path per item), with the module it is relative to.
+fn used_paths(code: &str, me: &[String]) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    let ident = |c: char| c.is_alphanumeric() || c == '_';
+    for (at, _) in code.match_indices("::") {
+        let head_start = code[..at].rfind(|c: char| !ident(c)).map_or(0, |i| i + 1);
+        let head = &code[head_start..at];
+        let before = code[..head_start].chars().last();
+        if before.is_some_and(|c| c == ':' || ident(c)) {
+            continue; // the middle of a longer path
+        }
+        let mut base: Vec<String> = match head {
+            "crate" => Vec::new(),
+            "self" => me.to_vec(),
+            "super" => me[..me.len().saturating_sub(1)].to_vec(),
+            _ => continue,
+        };
+        let mut rest = &code[at + 2..];
+        while let Some(r) = rest.strip_prefix("super::") {
+            base.pop();
+            rest = r;
+        }
+        let items: Vec<&str> = if let Some(group) = rest.strip_prefix('{') {
+            group.split('}').next().unwrap_or("").split(',').collect()
+        } else {
+            vec![rest]
+        };
+        for item in items {
+            let path: Vec<String> = item
+                .trim()
+                .split("::")
+                .map(|p| p.chars().take_while(|&c| ident(c)).collect::<String>())
+                .take_while(|p| !p.is_empty())
+                .collect();
+            out.push([base.clone(), path].concat());
+        }
+    }
+    out
+}
+
+/// Every library file under `src/` (not the binary's `main.rs` and `cli/`) with its code.
+fn library(src: &Path) -> BTreeMap<String, String> {
+    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<String, String>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            let rel = path
+                .strip_prefix(root)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/");
+            if path.is_dir() && rel != "cli" {
+                walk(root, &path, out);
+            } else if rel.ends_with(".rs") && rel != "main.rs" {
+                out.insert(rel, code(&std::fs::read_to_string(&path).unwrap()));
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(src, src, &mut out);
+    out
+}
+
+/// Which file each file uses (the file defining the longest prefix of each path it uses).
+fn uses(files: &BTreeMap<String, String>) -> BTreeSet<(String, String)> {
+    let by_module: BTreeMap<Vec<String>, &String> =
+        files.keys().map(|f| (module_of(f), f)).collect();
+    let mut edges = BTreeSet::new();
+    for (file, code) in files {
+        for path in used_paths(code, &module_of(file)) {
+            let target = (1..=path.len())
+                .rev()
+                .find_map(|k| by_module.get(&path[..k]).copied());
+            if let Some(target) = target.filter(|t| *t != file) {
+                edges.insert((file.clone(), target.clone()));
+            }
+        }
+    }
+    edges
+}
+
+#[test]
+fn no_file_uses_a_later_layer_and_no_two_files_use_each_other() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let files = library(&src);
+    let edges = uses(&files);
+    let top = |f: &str| module_of(f).first().cloned().unwrap_or_default();
+    let mut wrong = Vec::new();
+    for (a, b) in &edges {
+        let (ta, tb) = (top(a), top(b));
+        if ta.is_empty() || tb.is_empty() || ta == tb {
+            continue;
+        }
+        match (layer(&ta), layer(&tb)) {
+            (Some(la), Some(lb)) if la < lb => wrong.push(format!("{a} uses {b}, a later layer")),
+            (None, _) | (_, None) => wrong.push(format!("{a} → {b}: a module of no layer")),
+            _ => {}
+        }
+    }
+    for (a, b) in &edges {
+        // A folder's mod.rs and its own files share names both ways (re-exports).
+        let parent =
+            |x: &str, y: &str| x.ends_with("mod.rs") && module_of(y).starts_with(&module_of(x));
+        if a < b && edges.contains(&(b.clone(), a.clone())) && !parent(a, b) && !parent(b, a) {
+            wrong.push(format!("{a} and {b} use each other"));
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "the layering of src/guide/architecture.md is broken:\n{}",
+        wrong.join("\n")
+    );
+    // The test sees the uses it must: a known one.
+    assert!(
+        edges.contains(&("scene/mod.rs".into(), "core/drawing/mod.rs".into())),
+        "{edges:?}"
+    );
+}
