@@ -157,57 +157,16 @@ impl Flange {
         let mut face = vec![false; dims[0] * dims[1]];
         let mut any_face = false;
         let mut area = 0.0;
-        let cos_tol = 1f64.to_radians().cos();
+        let grid = Grid {
+            origin,
+            first,
+            dims,
+            spacing,
+        };
         for t in 0..die.triangles.len() {
-            let [a, b, c] = die.corners(t);
-            if [a, b, c].iter().any(|p| p[2].abs() > FACE_TOL_MM) {
-                continue;
-            }
-            let (u, v) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-            let cross = u[0] * v[1] - u[1] * v[0];
-            let len = {
-                let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-                let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-                let n = [
-                    e1[1] * e2[2] - e1[2] * e2[1],
-                    e1[2] * e2[0] - e1[0] * e2[2],
-                    e1[0] * e2[1] - e1[1] * e2[0],
-                ];
-                (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
-            };
-            if len == 0.0 || cross / len < cos_tol {
-                continue;
-            }
-            area += 0.5 * cross;
-            any_face = true;
-            if dims[0] == 0 || dims[1] == 0 {
-                continue;
-            }
-            // Cells whose centres the triangle covers (counted from the first kept).
-            let cell =
-                |x: f64, a: usize| ((x - origin[a]) / spacing - 0.5).floor() - first[a] as f64;
-            let (x0, x1) = (
-                cell(a[0].min(b[0]).min(c[0]), 0),
-                cell(a[0].max(b[0]).max(c[0]), 0) + 1.0,
-            );
-            let (y0, y1) = (
-                cell(a[1].min(b[1]).min(c[1]), 1),
-                cell(a[1].max(b[1]).max(c[1]), 1) + 1.0,
-            );
-            for j in y0.max(0.0) as usize..=(y1.max(0.0) as usize).min(dims[1] - 1) {
-                for i in x0.max(0.0) as usize..=(x1.max(0.0) as usize).min(dims[0] - 1) {
-                    let p = [
-                        origin[0] + ((first[0] + i) as f64 + 0.5) * spacing - a[0],
-                        origin[1] + ((first[1] + j) as f64 + 0.5) * spacing - a[1],
-                    ];
-                    // Barycentric test (the triangle winds counter-clockwise in plan).
-                    let s = (p[0] * v[1] - p[1] * v[0]) / cross;
-                    let r = (u[0] * p[1] - u[1] * p[0]) / cross;
-                    let eps = 1e-12;
-                    if s >= -eps && r >= -eps && s + r <= 1.0 + eps {
-                        face[j * dims[0] + i] = true;
-                    }
-                }
+            if let Some(half_cross) = grid.cover(die.corners(t), &mut face) {
+                area += half_cross;
+                any_face = true;
             }
         }
         if area <= 0.0 || !any_face {
@@ -289,6 +248,71 @@ impl Flange {
             reach([1.0, 0.0]).max(reach([-1.0, 0.0])),
             reach([0.0, 1.0]).max(reach([0.0, -1.0])),
         ]
+    }
+}
+
+/// The plan grid a flange is sampled on: its origin, first kept cell, kept cells per axis and
+/// spacing, mm.
+struct Grid {
+    origin: [f64; 2],
+    first: [usize; 2],
+    dims: [usize; 2],
+    spacing: f64,
+}
+
+impl Grid {
+    /// Marks in `face` the cells whose centres triangle `[a, b, c]` covers, when it lies in the
+    /// die's face (within [`FACE_TOL_MM`] of z = 0, facing up within 1°); its area in plan,
+    /// mm², or `None` for a triangle off the face.
+    fn cover(&self, [a, b, c]: [[f64; 3]; 3], face: &mut [bool]) -> Option<f64> {
+        if [a, b, c].iter().any(|p| p[2].abs() > FACE_TOL_MM) {
+            return None;
+        }
+        let (u, v) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+        let cross = u[0] * v[1] - u[1] * v[0];
+        let len = {
+            let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            let n = [
+                e1[1] * e2[2] - e1[2] * e2[1],
+                e1[2] * e2[0] - e1[0] * e2[2],
+                e1[0] * e2[1] - e1[1] * e2[0],
+            ];
+            (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+        };
+        if len == 0.0 || cross / len < 1f64.to_radians().cos() {
+            return None;
+        }
+        let (origin, first, dims, spacing) = (self.origin, self.first, self.dims, self.spacing);
+        if dims[0] == 0 || dims[1] == 0 {
+            return Some(0.5 * cross);
+        }
+        // Cells whose centres the triangle covers (counted from the first kept).
+        let cell = |x: f64, a: usize| ((x - origin[a]) / spacing - 0.5).floor() - first[a] as f64;
+        let (x0, x1) = (
+            cell(a[0].min(b[0]).min(c[0]), 0),
+            cell(a[0].max(b[0]).max(c[0]), 0) + 1.0,
+        );
+        let (y0, y1) = (
+            cell(a[1].min(b[1]).min(c[1]), 1),
+            cell(a[1].max(b[1]).max(c[1]), 1) + 1.0,
+        );
+        for j in y0.max(0.0) as usize..=(y1.max(0.0) as usize).min(dims[1] - 1) {
+            for i in x0.max(0.0) as usize..=(x1.max(0.0) as usize).min(dims[0] - 1) {
+                let p = [
+                    origin[0] + ((first[0] + i) as f64 + 0.5) * spacing - a[0],
+                    origin[1] + ((first[1] + j) as f64 + 0.5) * spacing - a[1],
+                ];
+                // Barycentric test (the triangle winds counter-clockwise in plan).
+                let s = (p[0] * v[1] - p[1] * v[0]) / cross;
+                let r = (u[0] * p[1] - u[1] * p[0]) / cross;
+                let eps = 1e-12;
+                if s >= -eps && r >= -eps && s + r <= 1.0 + eps {
+                    face[j * dims[0] + i] = true;
+                }
+            }
+        }
+        Some(0.5 * cross)
     }
 }
 
