@@ -110,7 +110,6 @@ impl Accuracy {
             max_shear_deg: k * e.max_shear_deg,
             punch_force_pct: k * e.punch_force_pct,
             max_tension_pct: k * e.max_tension_pct,
-            ..e
         }
     }
 
