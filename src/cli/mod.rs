@@ -55,8 +55,9 @@ pub enum Command {
     /// Identify A and B (and C with --fit-c) from measured biaxial tension curves, or the
     /// shear law from a bias-extension curve (--bias HxW).
     Fit(fit::FitArgs),
-    /// The bias-extension test of a scene's fabric: an H × W specimen, yarns at ±45°, pulled
-    /// by D mm; writes bias.csv, bias.png and the shear map.
+    /// The bias-extension test of a scene's fabric (with `fabric.shear_moment`; the scene's
+    /// numerics are used too): an H × W specimen, yarns at ±45°, pulled by D mm; writes
+    /// bias.csv, bias.png and the shear map.
     Bias(bias::BiasArgs),
     /// Measure throughput on this machine (one thread; medians of several repetitions).
     Bench(bench::BenchArgs),

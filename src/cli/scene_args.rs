@@ -39,7 +39,8 @@ impl AccuracyArgs {
 /// `--out DIR`, with a default folder under `out/`.
 #[derive(Args, Debug, Clone, Default)]
 pub struct OutArgs {
-    /// Output folder (default: out/<command's prefix><input file stem>, e.g. out/paper-box-open).
+    /// Output folder (default: under out/, named after the input file: out/NAME for run,
+    /// out/bias-NAME, out/fit-NAME, out/fit-bias-NAME).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
