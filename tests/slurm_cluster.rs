@@ -1,4 +1,4 @@
-//! The sweep on a real Slurm (issue 17): a single-node cluster — Debian's slurm-wlm, the
+//! The sweep on a real Slurm: a single-node cluster — Debian's slurm-wlm, the
 //! controller and the node daemon on this machine, munge for authentication, a minimal
 //! configuration written here — runs `wovenform slurm --submit`'s job array of three tasks and
 //! the merge that depends on it. One array task is requeued while it runs (`scontrol

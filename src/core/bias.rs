@@ -6,7 +6,7 @@
 //! length are not a whole number of cells apart), halved into triangles along the edges, so
 //! that inextensible yarns do not lock it. The specimen stays in its plane (z fixed).
 //!
-//! The ideal kinematics (inextensible, pin-jointed yarns; `verification.md`): the centre's
+//! The ideal kinematics (inextensible, pin-jointed yarns; `src/guide/verification.md`): the centre's
 //! shear `γ = π/2 − 2 acos((H − W + d) / (√2 (H − W)))` at a grip displacement `d`, and the
 //! force of a shear law from the energy balance `F dd = M(γ) A_c dγ + M(γ/2) A_h dγ/2`, with
 //! `A_c = W (H − 3W/2)` and `A_h = W²`.

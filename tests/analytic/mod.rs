@@ -1,7 +1,7 @@
 //! Every closed form and reference value the tests compare the code against, in one place.
 //! None of it calls the crate's numerics: each answer comes from a formula (the paper's, a
-//! textbook's, or geometry) or from a value worked out outside the code (the law note
-//! `law.md`, the verification note `verification.md`).
+//! textbook's, or geometry) or from a value worked out outside the code (the reference values
+//! given in `src/guide/theory.md` and the closed forms of `src/guide/verification.md`).
 //!
 //! Units as in the code: mm, N, MPa (= N/mm²), radians unless a name says degrees.
 #![allow(dead_code)]
@@ -15,14 +15,14 @@ use wovenform::core::law::CellParams;
 /// The capstan (Euler–Eytelwein) belt-friction ratio `T_out / T_in = exp(μ θ)`: a string
 /// sliding over a rigid cylinder with Coulomb friction `mu` (dimensionless) over a wrap angle
 /// `theta` (rad). Independent of the cylinder's radius. For μ = 0.2, θ = π/2: 1.3691
-/// (`verification.md`, "Capstan").
+/// (`src/guide/verification.md`, "Capstan").
 pub fn capstan_ratio(mu: f64, theta: f64) -> f64 {
     (mu * theta).exp()
 }
 
 /// The force (N) that pulls a strip of area `area` (mm²) out from under the blank holder at
 /// pressure `pressure` (MPa) with Coulomb friction `mu`: `2 μ p S`, friction on both faces,
-/// the die's and the holder's (`verification.md`, "Holder pull-out").
+/// the die's and the holder's (`src/guide/verification.md`, "Holder pull-out").
 pub fn holder_pull_out_force(mu: f64, pressure: f64, area: f64) -> f64 {
     2.0 * mu * pressure * area
 }
@@ -85,10 +85,10 @@ pub fn pure_trellis(gamma: f64) -> [[f64; 3]; 3] {
 }
 
 // ---------------------------------------------------------------------------------------
-// The woven cell (Boisse et al. 1997, eqs 1–5; the law note `law.md`)
+// The woven cell (Boisse et al. 1997, eqs 1–5; `src/guide/theory.md`)
 // ---------------------------------------------------------------------------------------
 
-/// One reference point of the law note: fabric strains, tensions and closure.
+/// One reference point of the law: fabric strains, tensions and closure.
 #[derive(Clone, Copy, Debug)]
 pub struct LawReference {
     /// `[ε1, ε2]`, the fabric strains along warp and weft.
@@ -99,8 +99,8 @@ pub struct LawReference {
     pub closure: f64,
 }
 
-/// The law note's reference values on the paper's glass fabric (`law.md`, "Reference values"),
-/// solved there by nested bracketed scalar solves of the paper's equations (1)–(5), not by the
+/// The law's reference values on the paper's glass fabric (the table in `src/guide/theory.md`),
+/// worked out independently of the crate by nested bracketed scalar solves of the paper's equations (1)–(5), not by the
 /// crate: k = 1 at 0.4 %, uniaxial warp strain at 1 %, k = 2 at 0.6 %.
 pub const LAW_REFERENCE: [LawReference; 3] = [
     LawReference {
@@ -199,8 +199,9 @@ pub struct SaturatedCell {
 }
 
 /// [`SaturatedCell`] of the symmetric cell at `ε1 = ε2 = eps`: `h = e0 − A/2`,
-/// `L = L0 (1 + ε)`, `ℓ = sqrt(4h² + L²)`, `ℓ0 = sqrt(L0² + 4 e0²)` (law note, "The closure
-/// saturates at A, after which the response is linear with slope ≈ Cα sin²θα").
+/// `L = L0 (1 + ε)`, `ℓ = sqrt(4h² + L²)`, `ℓ0 = sqrt(L0² + 4 e0²)` (the closure
+/// saturates at A, after which the response is linear with slope ≈ Cα sin²θα: see
+/// `src/guide/theory.md`).
 pub fn saturated_symmetric_cell(p: CellParams, eps: f64) -> SaturatedCell {
     let (l0, e0, c, a) = (p.l0[0], p.e0[0], p.c[0], p.a);
     let len0 = (l0 * l0 + 4.0 * e0 * e0).sqrt();

@@ -1,4 +1,4 @@
-//! Hostile input to the commands as a new user meets them (issue 24): nothing the user gave is
+//! Hostile input to the commands as a new user meets them: nothing the user gave is
 //! overwritten, a specimen or a stroke out of bounds is refused before any work, a long value
 //! is not echoed back whole, a full disk leaves no half file, and a result is computed from
 //! what the user gave (the shear law swept, a sweep's own base scene).

@@ -1,4 +1,4 @@
-//! `wovenform slurm` with hostile names (issue 9): a line break, `%`, spaces, quotes, `$()`,
+//! `wovenform slurm` with hostile names: a line break, `%`, spaces, quotes, `$()`,
 //! backticks, `;`, `#`, `\` and the like in the sweep file's name, its folder, the output
 //! folder, a `--set` value and the program's own path. For each name, listed or drawn at
 //! random, the command either refuses it with exit 2 before writing anything (exactly where no

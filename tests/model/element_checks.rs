@@ -215,7 +215,7 @@ fn cell_count_is_the_area_over_the_cell_area() {
 #[test]
 fn element_along_the_yarns_reduces_to_the_papers_explicit_force() {
     // Paper eq 35: F_s = n (B̄11s L01 T11/|g10|² + B̄22s L02 T22/|g20|²) with Ē from eq 23, and the
-    // small-strain reading ε ≈ E (Remark 2) replaced by the exact pair of law.md:
+    // small-strain reading ε ≈ E (Remark 2) replaced by the exact pair of `src/guide/theory.md`:
     // S̃ = L0 T/(1+ε). Here: a rectangle along the yarns, a homogeneous stretch.
     let law = CellLaw::new(CellParams::PAPER_GLASS);
     let (a, b) = (6.0, 4.0);

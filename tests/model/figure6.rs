@@ -2,7 +2,7 @@
 //! k = ε11/ε22 = 1, 2, 4 and uniaxial (ε22 = 0), on the paper's glass fabric.
 //!
 //! The table is kept as a snapshot (0.01 N), and paired with checks that do not come from the
-//! code: the reference values worked out independently in the law note, the paper's equations
+//! code: the reference values worked out independently (`src/guide/theory.md`), the paper's equations
 //! (1)–(5) on every row, the symmetric cell solved by bisection, and the closed form of the
 //! linear part once the closure has saturated (all in `analytic`).
 
@@ -49,7 +49,7 @@ fn figure6_table_snapshot() {
     });
 }
 
-/// The law note's reference values (solved there by nested bracketed scalar solves).
+/// The law's reference values (worked out by nested bracketed scalar solves, outside the code).
 #[test]
 fn figure6_passes_through_the_reference_values() {
     let rows = table();

@@ -1,6 +1,6 @@
 #![allow(clippy::needless_range_loop)]
 //! The woven-cell law against answers that do not come from its Newton solve: the reference
-//! values of `law.md` and the paper's equations (1)–(5) in the paper's own variables (both in
+//! values of `src/guide/theory.md` and the paper's equations (1)–(5) in the paper's own variables (both in
 //! `analytic`), finite differences of the stored energy and of the tensions, and the nested
 //! bracketed solve.
 

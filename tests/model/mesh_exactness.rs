@@ -1,4 +1,4 @@
-//! A fine STL tessellation of an analytic tool gives the analytic tool's answer (issue 16):
+//! A fine STL tessellation of an analytic tool gives the analytic tool's answer:
 //! the presets' punch and die written as triangles (1 mm surface nets, vertices on the
 //! surface) and drawn again must give the max shear within 0.5°, the punch force within 2 %
 //! and the draw-in within 0.2 mm; a coarser tessellation (2 mm) is further off in force.

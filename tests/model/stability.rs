@@ -1,4 +1,4 @@
-//! The stiff and extreme cases of `verification.md`: each converges, or stops with the
+//! The stiff and extreme cases of `src/guide/verification.md`: each converges, or stops with the
 //! structured reason the physics calls for — never a panic, a NaN or Inf in any output, or a
 //! hang (each case is bounded by a coarse mesh and a shallow stroke, and the solver by its step
 //! and iteration budgets).

@@ -16,7 +16,7 @@ use wovenform::verdict::Verdict;
 
 /// Figures of the default grid's designs (r, rp, rm over the paper's tight and open radii,
 /// μ 0.2, 1 MPa): max shear °, max tension N, punch force N, wall s. A real run at `standard`
-/// gave them with the solver before issue 11; today's differ by up to 1.1° of shear and 63 N
+/// gave them with an earlier solver; today's differ by up to 1.1° of shear and 63 N
 /// of tension (the snapshots are drawn from these). Their verdicts are the paper's and
 /// today's: the real drawings are checked in `figure11_box.rs` and, through the explorer, in
 /// `tui_pty.rs`.
