@@ -15,11 +15,12 @@ use ratatui::widgets::{
 };
 
 use crate::study::sweep::show_value;
-use crate::verdict::Verdict;
+use crate::verdict::Limits;
 
 use super::app::{App, Entry, Focus, Mode, RunState};
 use super::detail::render_detail;
 use super::params::Target;
+use super::style::{Styles, verdict_cell};
 
 /// Width from which the detail pane is shown beside the table.
 pub const WIDE: u16 = 130;
@@ -33,64 +34,6 @@ pub fn show_duration(s: f64) -> String {
         format!("{} min {:02} s", s / 60, s % 60)
     } else {
         format!("{} h {:02} min", s / 3600, (s % 3600) / 60)
-    }
-}
-
-pub(super) struct Styles {
-    pub(super) colour: bool,
-}
-
-impl Styles {
-    fn fg(&self, c: Color) -> Style {
-        if self.colour {
-            Style::default().fg(c)
-        } else {
-            Style::default()
-        }
-    }
-    pub(super) fn good(&self) -> Style {
-        self.fg(Color::Green)
-    }
-    pub(super) fn bad(&self) -> Style {
-        self.fg(Color::Red).add_modifier(Modifier::BOLD)
-    }
-    pub(super) fn warn(&self) -> Style {
-        self.fg(Color::Yellow)
-    }
-    pub(super) fn dim(&self) -> Style {
-        if self.colour {
-            Style::default().fg(Color::DarkGray)
-        } else {
-            Style::default()
-        }
-    }
-    pub(super) fn title(&self) -> Style {
-        Style::default().add_modifier(Modifier::BOLD)
-    }
-    fn selected(&self) -> Style {
-        if self.colour {
-            Style::default().bg(Color::Blue).fg(Color::White)
-        } else {
-            Style::default().add_modifier(Modifier::REVERSED)
-        }
-    }
-}
-
-/// The verdict in a word, its symbol and its style.
-pub(super) fn verdict_cell(entry: &Entry, app: &App, st: &Styles) -> (String, Style) {
-    let Some(r) = entry.row.as_ref() else {
-        return (if app.running() { "…" } else { "·" }.into(), st.dim());
-    };
-    let [locking, _] = entry.limits;
-    match r.verdict {
-        Verdict::Feasible => ("✓ feasible".into(), st.good()),
-        Verdict::Marginal => ("≈ marginal".into(), st.warn()),
-        Verdict::Infeasible => {
-            let shear = r.max_shear_deg.is_some_and(|s| s > locking);
-            (if shear { "✗ shear" } else { "✗ tension" }.into(), st.bad())
-        }
-        Verdict::Failed => ("! failed".into(), st.warn()),
-        Verdict::Invalid => ("- invalid".into(), st.dim()),
     }
 }
 
@@ -157,7 +100,7 @@ fn render_title(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
         p.plan.len(),
         p.accuracy,
         err.max_shear_deg,
-        show_value(&toml::Value::Float(p.locking_angle_deg)),
+        show_value(&toml::Value::Float(p.limits.locking_angle_deg)),
     );
     Paragraph::new(Line::styled(text, st.title())).render(area, buf);
 }
@@ -473,7 +416,10 @@ fn fit_value(v: &toml::Value, width: usize) -> String {
 
 /// One design's row: its values, figures (over a limit in red), verdict, run time and error.
 fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
-    let [locking, breaking] = e.limits;
+    let Limits {
+        locking_angle_deg: locking,
+        break_tension_n: breaking,
+    } = e.limits;
     let r = e.row.as_ref();
     let err = r
         .and_then(|r| r.max_shear_err_deg)
