@@ -21,6 +21,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::canvas::{Area, text_width};
+use super::error::PlotError;
 use super::maps::{OVER_LIMIT, nice_step};
 use super::plot::{Colour, tick_label};
 use crate::verdict::Verdict;
@@ -91,51 +92,44 @@ fn draw_marker(
     (x, y): (i32, i32),
     c: RGBColor,
     size: i32,
-) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| e.to_string();
-    let hollow = |r: &Area| -> Result<(), String> {
-        r.draw(&Circle::new((x, y), size, WHITE.filled()))
-            .map_err(|e| err(&e))?;
+) -> Result<(), PlotError> {
+    let hollow = |r: &Area| -> Result<(), PlotError> {
+        r.draw(&Circle::new((x, y), size, WHITE.filled()))?;
         r.draw(&Circle::new(
             (x, y),
             size,
             ShapeStyle::from(c).stroke_width(2),
-        ))
-        .map_err(|e| err(&e))
+        ))?;
+        Ok(())
     };
     match verdict {
-        Verdict::Feasible => root
-            .draw(&Circle::new((x, y), size, c.filled()))
-            .map_err(|e| err(&e)),
-        Verdict::Marginal => hollow(root),
+        Verdict::Feasible => root.draw(&Circle::new((x, y), size, c.filled()))?,
+        Verdict::Marginal => hollow(root)?,
         Verdict::Infeasible => {
             let s = size;
             let line = ShapeStyle::from(c).stroke_width(3);
             root.draw(&PathElement::new(
                 vec![(x - s, y - s), (x + s, y + s)],
                 line,
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             root.draw(&PathElement::new(
                 vec![(x - s, y + s), (x + s, y - s)],
                 line,
-            ))
-            .map_err(|e| err(&e))
+            ))?
         }
         Verdict::Failed | Verdict::Invalid => {
             let s = size - 1;
             root.draw(&Rectangle::new(
                 [(x - s, y - s), (x + s, y + s)],
                 WHITE.filled(),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             root.draw(&Rectangle::new(
                 [(x - s, y - s), (x + s, y + s)],
                 ShapeStyle::from(c).stroke_width(2),
-            ))
-            .map_err(|e| err(&e))
+            ))?
         }
     }
+    Ok(())
 }
 
 /// Text at `(x, y)` anchored by `pos`, shrunk until it fits `max_w` pixels.
@@ -149,7 +143,7 @@ fn label(
     bold: bool,
     colour: RGBColor,
     max_w: i32,
-) -> Result<i32, String> {
+) -> Result<i32, PlotError> {
     let style = if bold {
         FontStyle::Bold
     } else {
@@ -164,8 +158,7 @@ fn label(
         .style(style)
         .color(&colour)
         .pos(Pos::new(pos.0, pos.1));
-    root.draw(&Text::new(text.to_string(), (x, y), font))
-        .map_err(|e| e.to_string())?;
+    root.draw(&Text::new(text.to_string(), (x, y), font))?;
     Ok(text_width(text, size, style).round() as i32)
 }
 
@@ -262,7 +255,7 @@ impl Panels {
     }
 
     /// Draws the panels into `root` at `(x, y)`, `width` pixels wide.
-    pub fn draw(&self, root: &Area, (x, y): (i32, i32), width: i32) -> Result<(), String> {
+    pub fn draw(&self, root: &Area, (x, y): (i32, i32), width: i32) -> Result<(), PlotError> {
         self.draw_head(root, (x, y), width)?;
         let (w, h) = self.plot_size(width);
         for (i, panel) in self.panels.iter().enumerate() {
@@ -291,14 +284,12 @@ impl Panels {
                 .transform(FontTransform::Rotate270)
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Center, VPos::Top)),
-        ))
-        .map_err(|e| e.to_string())?;
+        ))?;
         Ok(())
     }
 
     /// The title, the colour key and the marker key.
-    fn draw_head(&self, root: &Area, (x, y): (i32, i32), width: i32) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    fn draw_head(&self, root: &Area, (x, y): (i32, i32), width: i32) -> Result<(), PlotError> {
         let grey = RGBColor(50, 50, 50);
         label(
             root,
@@ -329,8 +320,7 @@ impl Panels {
                 root.draw(&PathElement::new(
                     vec![(cx, ky), (cx + KEY_SWATCH, ky)],
                     ShapeStyle::from(c).stroke_width(4),
-                ))
-                .map_err(|e| err(&e))?;
+                ))?;
                 label(
                     root,
                     name,
@@ -383,8 +373,7 @@ impl Panels {
             root.draw(&Rectangle::new(
                 [(mx, my - 11), (mx + 34, my + 11)],
                 shade.filled(),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             dashed(root, (mx, mx + 34), my, BLACK)?;
             mx += 42;
             label(
@@ -408,8 +397,7 @@ impl Panels {
         (left, top): (i32, i32),
         (w, h): (i32, i32),
         first_column: bool,
-    ) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    ) -> Result<(), PlotError> {
         let (right, bottom) = (left + w, top + h);
         // The values above, the band of the designs without an answer below.
         let strip = self.no_answer_strip();
@@ -431,8 +419,7 @@ impl Panels {
                 root.draw(&Rectangle::new(
                     [(left, top), (right, yl)],
                     over_limit_shade().filled(),
-                ))
-                .map_err(|e| err(&e))?;
+                ))?;
             }
         }
         let grid = ShapeStyle::from(RGBColor(225, 225, 225)).stroke_width(1);
@@ -441,8 +428,7 @@ impl Panels {
         let mut v = (y0 / step).ceil() * step;
         while v <= y1 + 1e-9 {
             let yy = self.py(v, top, dh);
-            root.draw(&PathElement::new(vec![(left, yy), (right, yy)], grid))
-                .map_err(|e| err(&e))?;
+            root.draw(&PathElement::new(vec![(left, yy), (right, yy)], grid))?;
             if first_column {
                 label(
                     root,
@@ -459,13 +445,11 @@ impl Panels {
         }
         for (v, text) in &self.x_ticks {
             let xx = self.px(*v, left, w);
-            root.draw(&PathElement::new(vec![(xx, top), (xx, bottom)], grid))
-                .map_err(|e| err(&e))?;
+            root.draw(&PathElement::new(vec![(xx, top), (xx, bottom)], grid))?;
             root.draw(&PathElement::new(
                 vec![(xx, bottom + 2), (xx, bottom + 6)],
                 ShapeStyle::from(BLACK).stroke_width(1),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             label(
                 root,
                 text,
@@ -481,8 +465,7 @@ impl Panels {
             root.draw(&Rectangle::new(
                 [(left, floor), (right, bottom)],
                 RGBColor(238, 238, 238).filled(),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             if first_column {
                 label(
                     root,
@@ -499,8 +482,7 @@ impl Panels {
         root.draw(&Rectangle::new(
             [(left, top), (right, bottom)],
             ShapeStyle::from(RGBColor(130, 130, 130)).stroke_width(1),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
         if let Some((limit, _)) = self.limit {
             let yl = self.py(limit, top, dh);
             if yl >= top && yl <= floor {
@@ -516,8 +498,7 @@ impl Panels {
                 .filter_map(|p| Some((self.px(p.x, left, w), self.py(p.y?, top, dh))))
                 .collect();
             if self.connect && pts.len() > 1 {
-                root.draw(&PathElement::new(pts, ShapeStyle::from(c).stroke_width(2)))
-                    .map_err(|e| err(&e))?;
+                root.draw(&PathElement::new(pts, ShapeStyle::from(c).stroke_width(2)))?;
             }
         }
         for (li, line) in panel.lines.iter().enumerate() {
@@ -544,15 +525,14 @@ fn over_limit_shade() -> RGBColor {
 }
 
 /// A horizontal dashed line from `x0` to `x1` at row `y`.
-fn dashed(root: &Area, (x0, x1): (i32, i32), y: i32, c: RGBColor) -> Result<(), String> {
+fn dashed(root: &Area, (x0, x1): (i32, i32), y: i32, c: RGBColor) -> Result<(), PlotError> {
     let mut x = x0;
     while x < x1 {
         let end = (x + 9).min(x1);
         root.draw(&PathElement::new(
             vec![(x, y), (end, y)],
             ShapeStyle::from(c).stroke_width(2),
-        ))
-        .map_err(|e| e.to_string())?;
+        ))?;
         x += 15;
     }
     Ok(())

@@ -12,7 +12,7 @@
 //! ```
 
 use super::canvas::{Area, write_png};
-use super::error::DrawError;
+use super::error::{DrawError, PlotError};
 use std::path::Path;
 use std::sync::Once;
 
@@ -226,7 +226,7 @@ impl LineChart {
 
     /// Draws the chart into a part of a larger picture (a report sheet); `self.size` is not
     /// used, the chart fills `area`. The caller presents the picture.
-    pub fn draw_into(&self, area: &Area<'_>) -> Result<(), String> {
+    pub fn draw_into(&self, area: &Area<'_>) -> Result<(), PlotError> {
         register_fonts();
         let ((x0, x1), (y0, y1)) = self.ranges();
         match (self.x_scale, self.y_scale) {
@@ -239,22 +239,20 @@ impl LineChart {
         }
     }
 
-    fn draw_on<X, Y>(&self, root: &Area<'_>, x_spec: X, y_spec: Y) -> Result<(), String>
+    fn draw_on<X, Y>(&self, root: &Area<'_>, x_spec: X, y_spec: Y) -> Result<(), PlotError>
     where
         X: AsRangedCoord<Value = f64>,
         Y: AsRangedCoord<Value = f64>,
         X::CoordDescType: ValueFormatter<f64>,
         Y::CoordDescType: ValueFormatter<f64>,
     {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
         let font = "sans-serif";
         let mut chart = ChartBuilder::on(root)
             .caption(&self.title, (font, 28))
             .margin(20)
             .x_label_area_size(65)
             .y_label_area_size(90)
-            .build_cartesian_2d(x_spec, y_spec)
-            .map_err(|e| err(&e))?;
+            .build_cartesian_2d(x_spec, y_spec)?;
         chart
             .configure_mesh()
             .x_desc(&self.x_label)
@@ -265,8 +263,7 @@ impl LineChart {
             .y_label_formatter(&|v| tick_label(*v))
             .light_line_style(RGBColor(235, 235, 235))
             .bold_line_style(RGBColor(205, 205, 205))
-            .draw()
-            .map_err(|e| err(&e))?;
+            .draw()?;
 
         let mut any_legend = false;
         for s in &self.series {
@@ -291,8 +288,7 @@ impl LineChart {
                         .into_iter()
                         .map(|p| Cross::new(p, 5, ShapeStyle::from(colour).stroke_width(2))),
                 ),
-            }
-            .map_err(|e| err(&e))?;
+            }?;
             if s.name.is_empty() {
                 continue;
             }
@@ -330,8 +326,7 @@ impl LineChart {
                 .background_style(WHITE.mix(0.9))
                 .border_style(RGBColor(150, 150, 150))
                 .label_font((font, 17))
-                .draw()
-                .map_err(|e| err(&e))?;
+                .draw()?;
         }
         Ok(())
     }

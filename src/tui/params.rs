@@ -136,24 +136,24 @@ pub fn parse_list(text: &str, base: &toml::Value) -> Result<Vec<toml::Value>, Pa
         )));
     };
     let numeric = matches!(base, toml::Value::Float(_) | toml::Value::Integer(_));
+    let wrong = |message: String| Err(ParamError::Text(message));
     values
         .iter()
         .map(|v| match (v, base) {
             (toml::Value::Integer(i), toml::Value::Float(_)) => Ok(toml::Value::Float(*i as f64)),
             (toml::Value::Float(f), _) if !f.is_finite() => {
-                Err(format!("{f}: expected a finite number"))
+                wrong(format!("{f}: expected a finite number"))
             }
             (toml::Value::Float(_) | toml::Value::Integer(_), _) if numeric => Ok(v.clone()),
-            _ if numeric => Err(format!("{}: expected a number", show_value(v))),
+            _ if numeric => wrong(format!("{}: expected a number", show_value(v))),
             _ if std::mem::discriminant(v) == std::mem::discriminant(base) => Ok(v.clone()),
-            _ => Err(format!(
+            _ => wrong(format!(
                 "{}: expected a value like {}",
                 show_value(v),
                 show_value(base)
             )),
         })
-        .collect::<Result<_, String>>()
-        .map_err(ParamError::Text)
+        .collect()
 }
 
 /// The scene keys of the fabric's locking angle and of the yarns' break tension.
