@@ -160,101 +160,115 @@ fn render_parameters(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
 }
 
 fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
-    let mut lines: Vec<Line> = Vec::new();
-    let title;
-    if let Mode::Editing { error, .. } = &app.mode {
-        let f = &app.params.fields[app.cursor];
-        title = format!(" Editing {} ", f.label);
-        match error {
-            Some(e) => lines.push(Line::styled(format!("✗ {e}"), st.bad())),
-            None => lines.push(Line::styled(
-                "✓ valid: Enter keeps it, Esc drops it",
-                st.good(),
-            )),
-        }
-        let hint = match &f.target {
-            Target::Accuracy => "coarse (5 mm), standard (2.5 mm) or fine (1.25 mm)",
-            Target::LockingAngle => "the fabric's shear locking angle, °",
-            Target::BreakTension => "the yarns' break tension, N",
-            Target::Axis { key, .. } => axis_hint(key.as_str()),
-        };
-        lines.push(Line::styled(hint, st.dim()));
-    } else {
-        title = " Run ".into();
-        let (done, feasible) = app.counts();
-        let total = app.entries.len();
-        let state = match &app.run {
-            RunState::Idle => {
-                // A rough figure (the mesh and the stroke), one core a design.
-                let each = crate::study::estimate::run_seconds(&app.params.plan.base_scene);
-                Line::raw(format!(
-                    "ready: r runs {total} designs, about {} each",
-                    show_duration(each.max(1.0))
-                ))
-            }
-            RunState::Running => {
-                Line::raw(format!("running: {done}/{total} done, {feasible} feasible"))
-            }
-            RunState::Stopping => Line::styled("cancelling…", st.warn()),
-            RunState::Finished { wall_s } => Line::styled(
-                format!(
-                    "finished: {done}/{total} in {}, {feasible} feasible",
-                    show_duration(*wall_s)
-                ),
-                st.good(),
-            ),
-            RunState::Cancelled { wall_s } => Line::styled(
-                format!(
-                    "cancelled after {}: {done}/{total} kept (r resumes)",
-                    show_duration(*wall_s)
-                ),
-                st.warn(),
-            ),
-            RunState::Failed(e) => Line::styled(format!("failed: {e}"), st.bad()),
-        };
-        lines.push(state);
-        let sort = format!(
-            "sort: {} {} · {}",
-            app.sort_name(app.sort.column),
-            if app.sort.descending { "↓" } else { "↑" },
-            if app.feasible_only {
-                "feasible only"
-            } else {
-                "all designs"
-            }
-        );
-        lines.push(Line::styled(sort, st.dim()));
-        let fabric = &app.table_plan.base_scene.fabric;
-        lines.push(Line::styled(
-            format!(
-                "limits: shear {}°, tension {} N",
-                show_value(&toml::Value::Float(fabric.locking_angle_deg)),
-                show_value(&toml::Value::Float(fabric.break_tension_n))
-            ),
-            st.dim(),
-        ));
-        if app.edited() {
-            lines.push(Line::styled(
-                format!("edited: r runs the new {} designs", app.params.plan.len()),
-                st.warn(),
-            ));
-        }
-        let marginal = app.marginal_ids().len();
-        if marginal > 0 && !app.running() {
-            lines.push(Line::styled(
-                format!("≈ {marginal} marginal: m re-runs them one level finer"),
-                st.warn(),
-            ));
-        }
-        if let Some(status) = app.fresh_status() {
-            lines.push(Line::raw(status.to_string()));
-        }
-    }
+    let (title, lines) = match &app.mode {
+        Mode::Editing { error, .. } => editing_lines(app, error.as_ref(), st),
+        _ => (" Run ".to_string(), run_lines(app, st)),
+    };
     let block = Block::bordered().title(title).border_style(st.dim());
     Paragraph::new(lines)
         .wrap(Wrap { trim: true })
         .block(block)
         .render(area, buf);
+}
+
+/// The Run panel while a parameter is edited: its title, whether the text is valid, a hint.
+fn editing_lines<'a>(
+    app: &App,
+    error: Option<&super::error::ParamError>,
+    st: &Styles,
+) -> (String, Vec<Line<'a>>) {
+    let mut lines: Vec<Line> = Vec::new();
+    let f = &app.params.fields[app.cursor];
+    let title = format!(" Editing {} ", f.label);
+    match error {
+        Some(e) => lines.push(Line::styled(format!("✗ {e}"), st.bad())),
+        None => lines.push(Line::styled(
+            "✓ valid: Enter keeps it, Esc drops it",
+            st.good(),
+        )),
+    }
+    let hint = match &f.target {
+        Target::Accuracy => "coarse (5 mm), standard (2.5 mm) or fine (1.25 mm)",
+        Target::LockingAngle => "the fabric's shear locking angle, °",
+        Target::BreakTension => "the yarns' break tension, N",
+        Target::Axis { key, .. } => axis_hint(key.as_str()),
+    };
+    lines.push(Line::styled(hint, st.dim()));
+    (title, lines)
+}
+
+/// The Run panel: where the run is, the sort, the limits, what was edited, the status.
+fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
+    let mut lines: Vec<Line> = Vec::new();
+    let (done, feasible) = app.counts();
+    let total = app.entries.len();
+    let state = match &app.run {
+        RunState::Idle => {
+            // A rough figure (the mesh and the stroke), one core a design.
+            let each = crate::study::estimate::run_seconds(&app.params.plan.base_scene);
+            Line::raw(format!(
+                "ready: r runs {total} designs, about {} each",
+                show_duration(each.max(1.0))
+            ))
+        }
+        RunState::Running => {
+            Line::raw(format!("running: {done}/{total} done, {feasible} feasible"))
+        }
+        RunState::Stopping => Line::styled("cancelling…", st.warn()),
+        RunState::Finished { wall_s } => Line::styled(
+            format!(
+                "finished: {done}/{total} in {}, {feasible} feasible",
+                show_duration(*wall_s)
+            ),
+            st.good(),
+        ),
+        RunState::Cancelled { wall_s } => Line::styled(
+            format!(
+                "cancelled after {}: {done}/{total} kept (r resumes)",
+                show_duration(*wall_s)
+            ),
+            st.warn(),
+        ),
+        RunState::Failed(e) => Line::styled(format!("failed: {e}"), st.bad()),
+    };
+    lines.push(state);
+    let sort = format!(
+        "sort: {} {} · {}",
+        app.sort_name(app.sort.column),
+        if app.sort.descending { "↓" } else { "↑" },
+        if app.feasible_only {
+            "feasible only"
+        } else {
+            "all designs"
+        }
+    );
+    lines.push(Line::styled(sort, st.dim()));
+    let limits = Limits::of(&app.table_plan.base_scene);
+    lines.push(Line::styled(
+        format!(
+            "limits: shear {}°, tension {} N",
+            show_value(&toml::Value::Float(limits.locking_angle_deg)),
+            show_value(&toml::Value::Float(limits.break_tension_n))
+        ),
+        st.dim(),
+    ));
+    if app.edited() {
+        lines.push(Line::styled(
+            format!("edited: r runs the new {} designs", app.params.plan.len()),
+            st.warn(),
+        ));
+    }
+    let marginal = app.marginal_ids().len();
+    if marginal > 0 && !app.running() {
+        lines.push(Line::styled(
+            format!("≈ {marginal} marginal: m re-runs them one level finer"),
+            st.warn(),
+        ));
+    }
+    if let Some(status) = app.fresh_status() {
+        lines.push(Line::raw(status.to_string()));
+    }
+    lines
 }
 
 fn render_table(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {

@@ -162,8 +162,57 @@ pub(super) fn shear_chart(
     let panel_at = combinations(plan, &layout.panel_axes);
     let line_at = combinations(plan, &layout.line_axes);
     let shown = panel_at.len().min(MAX_PANELS);
-    let mut panels = Vec::with_capacity(shown);
-    for at in &panel_at[..shown] {
+    let panels = panels_of(plan, rows, designs, &layout, &panel_at[..shown], &line_at);
+    let key = key_of(plan, &layout, &line_at);
+    let (x_ticks, x_range) = x_axis(plan, &layout);
+    let y_range = y_range(&panels, locking);
+    let xa = &plan.axes[layout.x];
+    let xunit = unit_of(&xa.key).trim();
+    let x_label = if xunit.is_empty() {
+        xa.column.clone()
+    } else {
+        format!("{} ({xunit})", xa.column)
+    };
+    let names = |axes: &[usize]| {
+        axes.iter()
+            .map(|&a| plan.axes[a].column.as_str())
+            .collect::<Vec<_>>()
+    };
+    let title = chart_title(plan, &layout, &x_label, !key.is_empty());
+    let columns = match layout.panel_axes.last() {
+        Some(&a) if (2..=4).contains(&plan.axes[a].values.len()) => plan.axes[a].values.len(),
+        _ => (shown as f64).sqrt().ceil().clamp(1.0, 4.0) as usize,
+    };
+    let chart = Panels {
+        title,
+        x_label,
+        y_label: "max shear over a woven cell (°)".into(),
+        x_ticks,
+        x_range,
+        y_range,
+        limit: Some((locking, format!("locking angle {}°", tick_label(locking)))),
+        columns,
+        connect: layout.numeric,
+        panels,
+        key_title: names(&layout.line_axes).join(", "),
+        key,
+    };
+    let notes = notes(&layout, plan, rows, locking, (shown, panel_at.len()));
+    (Some(chart), notes)
+}
+
+/// The panels (at most those of `panel_at`), a line in each per combination of `line_at`
+/// that has rows.
+fn panels_of(
+    plan: &Plan,
+    rows: &[Row],
+    designs: &[Design],
+    layout: &Layout,
+    panel_at: &[Vec<usize>],
+    line_at: &[Vec<usize>],
+) -> Vec<Panel> {
+    let mut panels = Vec::with_capacity(panel_at.len());
+    for at in panel_at {
         let mut lines = Vec::new();
         for (li, line) in line_at.iter().enumerate() {
             let mut points: Vec<PanelPoint> = rows
@@ -189,9 +238,14 @@ pub(super) fn shear_chart(
             lines,
         });
     }
+    panels
+}
+
+/// The key of the lines: their names and colours, when there is more than one line.
+fn key_of(plan: &Plan, layout: &Layout, line_at: &[Vec<usize>]) -> Vec<(String, Colour)> {
     // The key names the values only when one parameter makes the lines (its name is the
     // key's title).
-    let key = if line_at.len() > 1 {
+    if line_at.len() > 1 {
         line_at
             .iter()
             .enumerate()
@@ -208,16 +262,11 @@ pub(super) fn shear_chart(
             .collect()
     } else {
         Vec::new()
-    };
-    let (x_ticks, x_range) = x_axis(plan, &layout);
-    let y_range = y_range(&panels, locking);
-    let xa = &plan.axes[layout.x];
-    let xunit = unit_of(&xa.key).trim();
-    let x_label = if xunit.is_empty() {
-        xa.column.clone()
-    } else {
-        format!("{} ({xunit})", xa.column)
-    };
+    }
+}
+
+/// The chart's title: what the x axis is, and what the panels and lines are.
+fn chart_title(plan: &Plan, layout: &Layout, x_label: &str, keyed: bool) -> String {
     let names = |axes: &[usize]| {
         axes.iter()
             .map(|&a| plan.axes[a].column.as_str())
@@ -230,7 +279,7 @@ pub(super) fn shear_chart(
             names(&layout.panel_axes).join(" × ")
         ));
     }
-    if !key.is_empty() {
+    if keyed {
         title.push_str(&format!(
             "{} a line per {}",
             if layout.panel_axes.is_empty() {
@@ -241,26 +290,7 @@ pub(super) fn shear_chart(
             names(&layout.line_axes).join(" × ")
         ));
     }
-    let columns = match layout.panel_axes.last() {
-        Some(&a) if (2..=4).contains(&plan.axes[a].values.len()) => plan.axes[a].values.len(),
-        _ => (shown as f64).sqrt().ceil().clamp(1.0, 4.0) as usize,
-    };
-    let chart = Panels {
-        title,
-        x_label,
-        y_label: "max shear over a woven cell (°)".into(),
-        x_ticks,
-        x_range,
-        y_range,
-        limit: Some((locking, format!("locking angle {}°", tick_label(locking)))),
-        columns,
-        connect: layout.numeric,
-        panels,
-        key_title: names(&layout.line_axes).join(", "),
-        key,
-    };
-    let notes = notes(&layout, plan, rows, locking, (shown, panel_at.len()));
-    (Some(chart), notes)
+    title
 }
 
 /// A design's point: at its x exactly, its max shear when the run gave an answer.
