@@ -301,39 +301,62 @@ impl Panels {
             BLACK,
             width,
         )?;
-        // The colours of the lines, on as many rows as they need.
         if !self.key.is_empty() {
-            let (title_w, places) = self.key_layout(width);
+            self.draw_colour_key(root, (x, y), width, grey)?;
+        }
+        self.draw_marker_key(root, (x, y), width, grey)?;
+        Ok(())
+    }
+
+    /// The colours of the lines and their names, on as many rows as they need.
+    fn draw_colour_key(
+        &self,
+        root: &Area,
+        (x, y): (i32, i32),
+        width: i32,
+        grey: RGBColor,
+    ) -> Result<(), PlotError> {
+        let (title_w, places) = self.key_layout(width);
+        label(
+            root,
+            &self.key_heading(),
+            (x, y + 52),
+            (HPos::Left, VPos::Center),
+            18.0,
+            true,
+            grey,
+            title_w,
+        )?;
+        for ((name, colour), (dx, row)) in self.key.iter().zip(places) {
+            let (cx, ky) = (x + dx, y + 52 + 30 * row);
+            let c = RGBColor(colour.0, colour.1, colour.2);
+            root.draw(&PathElement::new(
+                vec![(cx, ky), (cx + KEY_SWATCH, ky)],
+                ShapeStyle::from(c).stroke_width(4),
+            ))?;
             label(
                 root,
-                &self.key_heading(),
-                (x, y + 52),
+                name,
+                (cx + KEY_SWATCH + 6, ky),
                 (HPos::Left, VPos::Center),
                 18.0,
-                true,
-                grey,
-                title_w,
+                false,
+                BLACK,
+                width - dx - KEY_SWATCH - 6,
             )?;
-            for ((name, colour), (dx, row)) in self.key.iter().zip(places) {
-                let (cx, ky) = (x + dx, y + 52 + 30 * row);
-                let c = RGBColor(colour.0, colour.1, colour.2);
-                root.draw(&PathElement::new(
-                    vec![(cx, ky), (cx + KEY_SWATCH, ky)],
-                    ShapeStyle::from(c).stroke_width(4),
-                ))?;
-                label(
-                    root,
-                    name,
-                    (cx + KEY_SWATCH + 6, ky),
-                    (HPos::Left, VPos::Center),
-                    18.0,
-                    false,
-                    BLACK,
-                    width - dx - KEY_SWATCH - 6,
-                )?;
-            }
         }
-        // What the markers say, drawn in grey (each panel draws them in its lines' colours).
+        Ok(())
+    }
+
+    /// What the markers say, drawn in grey (each panel draws them in its lines' colours),
+    /// and the limit's line and shade.
+    fn draw_marker_key(
+        &self,
+        root: &Area,
+        (x, y): (i32, i32),
+        width: i32,
+        grey: RGBColor,
+    ) -> Result<(), PlotError> {
         let my = y + self.head(width) - 30;
         let mut mx = x;
         mx += label(
@@ -422,6 +445,49 @@ impl Panels {
                 ))?;
             }
         }
+        self.draw_grid(root, (left, top), (w, h), dh, first_column)?;
+        if strip > 0 {
+            root.draw(&Rectangle::new(
+                [(left, floor), (right, bottom)],
+                RGBColor(238, 238, 238).filled(),
+            ))?;
+            if first_column {
+                label(
+                    root,
+                    "no answer",
+                    (left - 8, floor + strip / 2),
+                    (HPos::Right, VPos::Center),
+                    13.0,
+                    false,
+                    RGBColor(90, 90, 90),
+                    LEFT - 12,
+                )?;
+            }
+        }
+        root.draw(&Rectangle::new(
+            [(left, top), (right, bottom)],
+            ShapeStyle::from(RGBColor(130, 130, 130)).stroke_width(1),
+        ))?;
+        if let Some((limit, _)) = self.limit {
+            let yl = self.py(limit, top, dh);
+            if yl >= top && yl <= floor {
+                dashed(root, (left, right), yl, BLACK)?;
+            }
+        }
+        self.draw_lines(root, panel, (left, top), (w, h), dh)?;
+        Ok(())
+    }
+
+    /// The grid of a panel: its y values (labelled in the first column) and its x ticks.
+    fn draw_grid(
+        &self,
+        root: &Area,
+        (left, top): (i32, i32),
+        (w, h): (i32, i32),
+        dh: i32,
+        first_column: bool,
+    ) -> Result<(), PlotError> {
+        let (right, bottom) = (left + w, top + h);
         let grid = ShapeStyle::from(RGBColor(225, 225, 225)).stroke_width(1);
         let (y0, y1) = self.y_range;
         let step = nice_step((y1 - y0) / 5.0);
@@ -461,34 +527,20 @@ impl Panels {
                 (w / self.x_ticks.len().max(1) as i32).max(20),
             )?;
         }
-        if strip > 0 {
-            root.draw(&Rectangle::new(
-                [(left, floor), (right, bottom)],
-                RGBColor(238, 238, 238).filled(),
-            ))?;
-            if first_column {
-                label(
-                    root,
-                    "no answer",
-                    (left - 8, floor + strip / 2),
-                    (HPos::Right, VPos::Center),
-                    13.0,
-                    false,
-                    RGBColor(90, 90, 90),
-                    LEFT - 12,
-                )?;
-            }
-        }
-        root.draw(&Rectangle::new(
-            [(left, top), (right, bottom)],
-            ShapeStyle::from(RGBColor(130, 130, 130)).stroke_width(1),
-        ))?;
-        if let Some((limit, _)) = self.limit {
-            let yl = self.py(limit, top, dh);
-            if yl >= top && yl <= floor {
-                dashed(root, (left, right), yl, BLACK)?;
-            }
-        }
+        Ok(())
+    }
+
+    /// A panel's lines, then their markers on top (those without an answer in the band at
+    /// the bottom, a row per line).
+    fn draw_lines(
+        &self,
+        root: &Area,
+        panel: &Panel,
+        (left, top): (i32, i32),
+        (w, h): (i32, i32),
+        dh: i32,
+    ) -> Result<(), PlotError> {
+        let bottom = top + h;
         // The lines, then their markers on top.
         for line in &panel.lines {
             let c = RGBColor(line.colour.0, line.colour.1, line.colour.2);

@@ -11,7 +11,7 @@
 //! chart.write_png(std::path::Path::new("out/chart.png")).unwrap();
 //! ```
 
-use super::canvas::{Area, write_png};
+use super::canvas::{Area, Canvas, write_png};
 use super::error::{DrawError, PlotError};
 use std::path::Path;
 use std::sync::Once;
@@ -265,6 +265,37 @@ impl LineChart {
             .bold_line_style(RGBColor(205, 205, 205))
             .draw()?;
 
+        let any_legend = self.draw_series(&mut chart)?;
+        if any_legend {
+            let position = match self.legend_at {
+                LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
+                LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
+                LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
+                LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
+            };
+            chart
+                .configure_series_labels()
+                .position(position)
+                .margin(12)
+                .legend_area_size(34)
+                .background_style(WHITE.mix(0.9))
+                .border_style(RGBColor(150, 150, 150))
+                .label_font((font, 17))
+                .draw()?;
+        }
+        Ok(())
+    }
+
+    /// Draws every series on `chart`, each with its legend entry when it has a name; whether
+    /// any has one.
+    fn draw_series<'a, X, Y>(
+        &self,
+        chart: &mut ChartContext<'a, Canvas<'a>, Cartesian2d<X, Y>>,
+    ) -> Result<bool, PlotError>
+    where
+        X: Ranged<ValueType = f64>,
+        Y: Ranged<ValueType = f64>,
+    {
         let mut any_legend = false;
         for s in &self.series {
             let colour = s.colour.rgb();
@@ -311,24 +342,7 @@ impl LineChart {
                 Style::Crosses => anno.legend(move |(x, y)| Cross::new((x + 13, y), 5, line)),
             };
         }
-        if any_legend {
-            let position = match self.legend_at {
-                LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
-                LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
-                LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
-                LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
-            };
-            chart
-                .configure_series_labels()
-                .position(position)
-                .margin(12)
-                .legend_area_size(34)
-                .background_style(WHITE.mix(0.9))
-                .border_style(RGBColor(150, 150, 150))
-                .label_font((font, 17))
-                .draw()?;
-        }
-        Ok(())
+        Ok(any_legend)
     }
 }
 

@@ -191,7 +191,12 @@ impl Sheet {
         }
         grid_top += 36;
         self.draw_tiles(root, MARGIN, grid_top, cols)?;
-        let chart_x = MARGIN + grid_w + 50;
+        self.draw_right(root, MARGIN + grid_w + 50, top)?;
+        Ok(())
+    }
+
+    /// The right column from `(chart_x, top)`: the chart, its notes, the ranking.
+    fn draw_right(&self, root: &Area, chart_x: i32, top: i32) -> Result<(), PlotError> {
         if let Some(chart) = &self.chart {
             chart.draw(root, (chart_x, top), CHART_W)?;
         }
@@ -282,7 +287,26 @@ impl Sheet {
             v += step;
         }
         // The locking angle: a thick line across the bar, named above it.
-        let pl = px(self.limit);
+        self.draw_bar_limit(root, px(self.limit), (x1, y0, y1))?;
+        root.draw(&Text::new(
+            "one colour scale for every map of the sweep",
+            (x0, y1 + 44),
+            (font, 17)
+                .into_font()
+                .color(&RGBColor(70, 70, 70))
+                .pos(Pos::new(HPos::Left, VPos::Top)),
+        ))?;
+        Ok(())
+    }
+
+    /// The locking angle on the colour bar at `pl`: a thick line across the bar (from `x1`'s
+    /// left, rows `y0..y1`), named above it and valued under it.
+    fn draw_bar_limit(
+        &self,
+        root: &Area,
+        pl: i32,
+        (x1, y0, y1): (i32, i32, i32),
+    ) -> Result<(), PlotError> {
         root.draw(&PathElement::new(
             vec![(pl, y0 - 10), (pl, y1 + 8)],
             ShapeStyle::from(BLACK).stroke_width(4),
@@ -290,7 +314,7 @@ impl Sheet {
         root.draw(&Text::new(
             format!("locking angle {}°", tick_label(self.limit)),
             (pl, y0 - 12),
-            (font, 20)
+            ("sans-serif", 20)
                 .into_font()
                 .style(FontStyle::Bold)
                 .color(&BLACK)
@@ -299,7 +323,7 @@ impl Sheet {
         root.draw(&Text::new(
             format!("{}°", tick_label(self.limit)),
             (pl, y1 + 19),
-            (font, 17)
+            ("sans-serif", 17)
                 .into_font()
                 .style(FontStyle::Bold)
                 .color(&BLACK)
@@ -309,21 +333,13 @@ impl Sheet {
             root.draw(&Text::new(
                 "over the limit",
                 ((pl + x1) / 2, (y0 + y1) / 2),
-                (font, 18)
+                ("sans-serif", 18)
                     .into_font()
                     .style(FontStyle::Bold)
                     .color(&WHITE)
                     .pos(Pos::new(HPos::Center, VPos::Center)),
             ))?;
         }
-        root.draw(&Text::new(
-            "one colour scale for every map of the sweep",
-            (x0, y1 + 44),
-            (font, 17)
-                .into_font()
-                .color(&RGBColor(70, 70, 70))
-                .pos(Pos::new(HPos::Left, VPos::Top)),
-        ))?;
         Ok(())
     }
 

@@ -65,28 +65,7 @@ impl FieldMap {
             ShapeStyle::from(BLACK).stroke_width(1),
         ))?;
         // Ticks and labels on the left, clear of the bar.
-        let step = nice_step(top / 8.0);
-        let tick_style = ShapeStyle::from(BLACK).stroke_width(1);
-        let label = (font, 16)
-            .into_font()
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Right, VPos::Center));
-        let (t1, t0) = (x0 - TICK_GAP, x0 - TICK_GAP - TICK_LEN);
-        let mut k = 0;
-        loop {
-            let v = k as f64 * step;
-            if v > top * (1.0 + 1e-9) {
-                break;
-            }
-            let y = y_of(v);
-            root.draw(&PathElement::new(vec![(t0, y), (t1, y)], tick_style))?;
-            root.draw(&Text::new(
-                tick_label(v),
-                (t0 - LABEL_GAP, y),
-                label.clone(),
-            ))?;
-            k += 1;
-        }
+        draw_ticks(root, top, x0, &y_of)?;
         let text = |s: String, y: i32, bold: bool| {
             let f = (font, 17).into_font();
             let f = if bold { f.style(FontStyle::Bold) } else { f };
@@ -141,16 +120,49 @@ impl FieldMap {
             ))?;
         }
         // The caption above the bar.
+        self.draw_bar_caption(root, (x0 + x1) / 2, y_top)
+    }
+
+    /// The bar's caption, centred on `x` above the bar's top row `y_top`.
+    fn draw_bar_caption(&self, root: &Area, x: i32, y_top: i32) -> Result<(), PlotError> {
         root.draw(&Text::new(
             self.bar_caption.clone(),
-            ((x0 + x1) / 2, y_top - 12),
-            (font, 18)
+            (x, y_top - 12),
+            ("sans-serif", 18)
                 .into_font()
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Center, VPos::Bottom)),
         ))?;
         Ok(())
     }
+}
+
+/// The ticks and labels of a bar scaled 0..`top`, on the left of its edge `x0`, clear of it;
+/// `y_of` places a value.
+fn draw_ticks(root: &Area, top: f64, x0: i32, y_of: &dyn Fn(f64) -> i32) -> Result<(), PlotError> {
+    let step = nice_step(top / 8.0);
+    let tick_style = ShapeStyle::from(BLACK).stroke_width(1);
+    let label = ("sans-serif", 16)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Right, VPos::Center));
+    let (t1, t0) = (x0 - TICK_GAP, x0 - TICK_GAP - TICK_LEN);
+    let mut k = 0;
+    loop {
+        let v = k as f64 * step;
+        if v > top * (1.0 + 1e-9) {
+            break;
+        }
+        let y = y_of(v);
+        root.draw(&PathElement::new(vec![(t0, y), (t1, y)], tick_style))?;
+        root.draw(&Text::new(
+            tick_label(v),
+            (t0 - LABEL_GAP, y),
+            label.clone(),
+        ))?;
+        k += 1;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

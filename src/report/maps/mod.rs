@@ -257,7 +257,8 @@ pub fn die_opening_outline(tooling: &Tooling) -> Vec<[f64; 2]> {
     tooling.die_opening_outline()
 }
 
-use super::canvas::{Area, write_png};
+use super::canvas::{Area, Canvas, write_png};
+use plotters::coord::types::RangedCoordf64;
 
 impl FieldMap {
     /// The top of the colour scale: the shared one when given ([`FieldMap::scale_max`]), else
@@ -374,6 +375,41 @@ impl FieldMap {
         ((cx - hx, cx + hx), (cy - hy, cy + hy))
     }
 
+    /// The peak at `at` (mm): a red ring, and its value on a pale label beside it.
+    fn draw_peak<'a>(
+        &self,
+        chart: &mut ChartContext<'a, Canvas<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+        at: [f64; 2],
+    ) -> Result<(), PlotError> {
+        let label = match self.peak {
+            Some(peak) => format!("cell peak {}", self.unit.show(peak)),
+            None => format!(
+                "max {}",
+                self.unit
+                    .show(self.values.iter().cloned().fold(0.0, f64::max))
+            ),
+        };
+        let width = text_width(&label, 18.0, FontStyle::Bold).ceil() as i32;
+        let style = ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3);
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((at[0], at[1]))
+                + Circle::new((0, 0), 9, style)
+                + Rectangle::new(
+                    [(8, -29), (16 + width, -5)],
+                    ShapeStyle::from(WHITE.mix(0.85)).filled(),
+                )
+                + Text::new(
+                    label,
+                    (12, -26),
+                    ("sans-serif", 18)
+                        .into_font()
+                        .style(FontStyle::Bold)
+                        .color(&BLACK),
+                ),
+        ))?;
+        Ok(())
+    }
+
     /// Draws the blank; returns the plot area's pixel rows (top, bottom) for the colour bar.
     fn draw_map(&self, area: &Area) -> Result<(i32, i32), PlotError> {
         let font = "sans-serif";
@@ -442,29 +478,7 @@ impl FieldMap {
                 }),
         )?;
         if let Some(at) = self.max_at {
-            let label = match self.peak {
-                Some(peak) => format!("cell peak {}", self.unit.show(peak)),
-                None => format!(
-                    "max {}",
-                    self.unit
-                        .show(self.values.iter().cloned().fold(0.0, f64::max))
-                ),
-            };
-            let width = text_width(&label, 18.0, FontStyle::Bold).ceil() as i32;
-            let style = ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3);
-            chart.draw_series(std::iter::once(
-                EmptyElement::at((at[0], at[1]))
-                    + Circle::new((0, 0), 9, style)
-                    + Rectangle::new(
-                        [(8, -29), (16 + width, -5)],
-                        ShapeStyle::from(WHITE.mix(0.85)).filled(),
-                    )
-                    + Text::new(
-                        label,
-                        (12, -26),
-                        (font, 18).into_font().style(FontStyle::Bold).color(&BLACK),
-                    ),
-            ))?;
+            self.draw_peak(&mut chart, at)?;
         }
         let (_, rows) = chart.plotting_area().get_pixel_range();
         Ok((rows.start, rows.end))

@@ -222,7 +222,7 @@ fn panels_of(
                     holds(plan, d, &layout.panel_axes, at)
                         && holds(plan, d, &layout.line_axes, line)
                 })
-                .map(|r| point(&layout, plan, r, &designs[r.index]))
+                .map(|r| point(layout, plan, r, &designs[r.index]))
                 .collect();
             if points.is_empty() {
                 continue;
