@@ -333,7 +333,7 @@ impl Verdict {
         Verdict::ALL.into_iter().find(|v| v.word() == word)
     }
 
-    /// The verdict a sentence of [`Verdict::sentence`] gives: its first word, or FAILED for a
+    /// The verdict a sentence of [`Facts::sentence`] gives: its first word, or FAILED for a
     /// run that cannot be trusted (`RUN FAILED …`, `NOT SOUND: …`, `NO ANSWER: …`).
     pub fn of_sentence(sentence: &str) -> Verdict {
         let word = sentence.split(':').next().unwrap_or("").trim();

@@ -68,8 +68,9 @@ mod tests {
     use crate::study::sweep::Row;
     use crate::tui::params::{Parameters, default_source};
 
-    /// The explorer on the default grid with design 0 answered: `shear` ± 2°, `over` times the
-    /// break tension ± 10 %, and the verdict given.
+    /// The explorer on the default grid with design 0 answered: its max shear
+    /// `shear_over_locking` degrees over the locking angle ± 2°, its max tension
+    /// `tension_times_break` times the break tension ± 10 %, and the verdict given.
     fn explorer_with(shear_over_locking: f64, tension_times_break: f64, verdict: Verdict) -> App {
         let params = Parameters::new(default_source()).unwrap();
         let mut app = App::new(params, "/session".into(), false);
