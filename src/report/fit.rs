@@ -12,9 +12,12 @@ fn path_key(eps: [f64; 2]) -> Option<i64> {
     Some((eps[1].atan2(eps[0]).to_degrees() * 2.0).round() as i64)
 }
 
+/// Points of a curve, (x, y).
+type Curve = Vec<(f64, f64)>;
+
 /// The model's warp and weft tensions along the straight strain path to `eps_far`, against
 /// the warp strain (%), and the path's name.
-fn path_curves(law: &CellLaw, eps_far: [f64; 2]) -> (String, Vec<(f64, f64)>, Vec<(f64, f64)>) {
+fn path_curves(law: &CellLaw, eps_far: [f64; 2]) -> (String, Curve, Curve) {
     let mut warp = Vec::new();
     let mut weft = Vec::new();
     let mut state = law.initial_state();
