@@ -9,7 +9,7 @@ use serde::Serialize;
 use crate::accuracy::Accuracy;
 use crate::core::drawing::{DrawingFailure, DrawingResult};
 use crate::scene::Scene;
-use crate::verdict::{Facts, Verdict};
+use crate::verdict::{Facts, Figures, Judged, Limits, Verdict};
 
 /// What `run --json` prints and `summary.json` holds. Every figure carries its unit in its name.
 #[derive(Clone, Debug, Serialize)]
@@ -24,9 +24,10 @@ pub struct RunSummary {
     pub feasible: bool,
     /// The verdict in a few words (also in the maps' titles).
     pub verdict: String,
-    /// The verdict itself (the rule's answer; `verdict` says it in words).
+    /// The verdict itself and the limit(s) that decide it (the rule's answer; `verdict` says
+    /// it in words).
     #[serde(skip)]
-    pub judged: Verdict,
+    pub judged: Judged,
     /// The peak |shear angle|, degrees: the largest mean over a disc of one woven cell
     /// (`cell_mm`, the cell's mean side, as radius) around an element, in the undeformed blank;
     /// and where (final position of that element's centre, mm, in the solved part). It is what
@@ -93,8 +94,7 @@ pub struct RunSummary {
 impl RunSummary {
     /// The summary of `result`, which took `wall_s` seconds.
     pub fn new(name: &str, scene: &Scene, result: &DrawingResult, wall_s: f64) -> RunSummary {
-        let locking = scene.fabric.locking_angle_deg;
-        let breaking = scene.fabric.break_tension_n;
+        let limits = Limits::of(scene);
         let [(e, max_shear_deg), (_, max_tension_n)] = result.cell_peaks();
         let unsound: Vec<String> = if result.converged {
             result.unsound().iter().map(|u| u.to_string()).collect()
@@ -107,18 +107,19 @@ impl RunSummary {
             converged: result.converged,
             no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_))),
             unsound: &unsound,
-            max_shear_deg,
-            max_tension_n,
-            locking_angle_deg: locking,
-            break_tension_n: breaking,
-            max_shear_err_deg: error.map_or(0.0, |e| e.max_shear_deg),
-            max_tension_err_pct: error.map_or(0.0, |e| e.max_tension_pct),
+            figures: Figures {
+                max_shear_deg,
+                max_tension_n,
+                max_shear_err_deg: error.map_or(0.0, |e| e.max_shear_deg),
+                max_tension_err_pct: error.map_or(0.0, |e| e.max_tension_pct),
+            },
+            limits,
             stroke_reached_mm: result.stroke_reached_mm,
             stroke_mm: scene.process.stroke,
         };
-        let judged = Verdict::judge(&facts);
-        let feasible = judged == Verdict::Feasible;
-        let verdict = Verdict::sentence(&facts);
+        let judged = facts.judge();
+        let feasible = judged.verdict == Verdict::Feasible;
+        let verdict = facts.sentence();
         let max_shear_at = if result.shear_deg.is_empty() {
             [0.0; 3]
         } else {
@@ -133,13 +134,13 @@ impl RunSummary {
             judged,
             max_shear_deg,
             max_shear_at,
-            locking_angle_deg: locking,
-            area_over_limit_pct: result.area_over_limit_pct(locking),
+            locking_angle_deg: limits.locking_angle_deg,
+            area_over_limit_pct: result.area_over_limit_pct(limits.locking_angle_deg),
             max_tension_n,
             cell_mm: result.cell_mm,
             max_shear_element_deg: result.max_shear_element().1,
             max_tension_element_n: result.max_tension_element_n(),
-            break_tension_n: breaking,
+            break_tension_n: limits.break_tension_n,
             punch_force_n: result.punch_force_n,
             stroke_mm: scene.process.stroke,
             stroke_reached_mm: result.stroke_reached_mm,

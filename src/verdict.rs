@@ -1,6 +1,7 @@
 //! The verdict on a design, and the feasibility rule that gives it: the one place that decides
-//! whether a drawing is feasible. Everything that shows a verdict (the run summary, the sweep's
-//! rows, tables and sheet, the explorer) takes it from here.
+//! whether a drawing is feasible, and which limit decides it. Everything that shows a verdict
+//! or its reason (the run summary, the sweep's rows, tables and sheet, the explorer's table,
+//! detail and its judging again against edited limits) takes it from here.
 //!
 //! A design is **feasible** when the drawing reached the full stroke, its result is sound (no
 //! deep penetration, no work out of balance), and the largest shear stays within the fabric's
@@ -8,8 +9,16 @@
 //! error: the whole error band is on the safe side. It is **infeasible** when a figure is over
 //! its limit by more than its error, and **marginal** when a limit lies inside a figure's error
 //! band: the answer is too close to call at this accuracy (a finer level may settle it).
+//!
+//! - [`Limits`]: the fabric's locking angle and break tension.
+//! - [`Figures`]: what a run answered (max shear, max tension) with their errors.
+//! - [`Judged`]: the rule's answer on trusted figures, a [`Verdict`] and which limit(s)
+//!   decide it ([`Over`]), with its label and its sentence.
+//! - [`Facts`]: how a run ended, with its figures: the verdict of any run.
 
 use serde::{Deserialize, Serialize};
+
+use crate::scene::Scene;
 
 /// The verdict on one design. Verdicts order best first (feasible, infeasible, failed,
 /// invalid): rankings sort by it.
@@ -31,38 +40,60 @@ pub enum Verdict {
     Invalid,
 }
 
-/// What the rule looks at: how the run ended, its figures and the fabric's limits.
-#[derive(Clone, Copy, Debug)]
-pub struct Facts<'a> {
-    pub converged: bool,
-    /// The scene has no unique shape (the model has no answer).
-    pub no_answer: bool,
-    /// Why a converged result cannot be trusted (empty: it can).
-    pub unsound: &'a [String],
+/// The fabric's limits the figures are judged against.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// The shear locking angle, degrees.
+    pub locking_angle_deg: f64,
+    /// The yarns' break tension, N.
+    pub break_tension_n: f64,
+}
+
+impl Limits {
+    /// The limits of a scene's fabric.
+    pub fn of(scene: &Scene) -> Limits {
+        Limits {
+            locking_angle_deg: scene.fabric.locking_angle_deg,
+            break_tension_n: scene.fabric.break_tension_n,
+        }
+    }
+}
+
+/// The figures a converged, sound run answered, and how far each can be off.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Figures {
     pub max_shear_deg: f64,
     pub max_tension_n: f64,
-    pub locking_angle_deg: f64,
-    pub break_tension_n: f64,
     /// How far the max shear can be off, degrees (0: not known).
     pub max_shear_err_deg: f64,
     /// How far the max tension can be off, % of it (0: not known).
     pub max_tension_err_pct: f64,
-    /// Stroke reached and asked for, mm.
-    pub stroke_reached_mm: f64,
-    pub stroke_mm: f64,
 }
 
-impl Facts<'_> {
-    /// The max shear is over the locking angle (its value, error aside).
-    pub fn shear_over(&self) -> bool {
-        self.max_shear_deg > self.locking_angle_deg
-    }
+/// Where a figure's error band stands against its limit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Standing {
+    /// The whole band is at or under the limit.
+    Within,
+    /// The limit lies inside the band: too close to call.
+    Inside,
+    /// The whole band is over the limit.
+    Over,
+}
 
-    /// The max tension is over the break tension (its value, error aside).
-    pub fn tension_over(&self) -> bool {
-        self.max_tension_n > self.break_tension_n
+impl Standing {
+    fn of([lo, hi]: [f64; 2], limit: f64) -> Standing {
+        if lo > limit {
+            Standing::Over
+        } else if lo <= limit && limit < hi {
+            Standing::Inside
+        } else {
+            Standing::Within
+        }
     }
+}
 
+impl Figures {
     /// The band `[low, high]` of the max shear, degrees.
     fn shear_band(&self) -> [f64; 2] {
         let e = self.max_shear_err_deg.abs();
@@ -78,81 +109,203 @@ impl Facts<'_> {
         ]
     }
 
-    /// The locking angle lies inside the max shear's band.
-    pub fn shear_marginal(&self) -> bool {
-        let [lo, hi] = self.shear_band();
-        lo <= self.locking_angle_deg && self.locking_angle_deg < hi
+    /// Where the max shear's band and the max tension's band stand against their limits.
+    pub fn standing(&self, limits: Limits) -> [Standing; 2] {
+        [
+            Standing::of(self.shear_band(), limits.locking_angle_deg),
+            Standing::of(self.tension_band(), limits.break_tension_n),
+        ]
+    }
+}
+
+/// Which limit(s) decide a verdict: for INFEASIBLE the figures whose whole band is over their
+/// limit, for MARGINAL those whose band holds their limit, else none.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Over {
+    None,
+    Shear,
+    Tension,
+    Both,
+}
+
+impl Over {
+    fn of(shear: bool, tension: bool) -> Over {
+        match (shear, tension) {
+            (false, false) => Over::None,
+            (true, false) => Over::Shear,
+            (false, true) => Over::Tension,
+            (true, true) => Over::Both,
+        }
     }
 
-    /// The break tension lies inside the max tension's band.
-    pub fn tension_marginal(&self) -> bool {
-        let [lo, hi] = self.tension_band();
-        lo <= self.break_tension_n && self.break_tension_n < hi
+    /// The shear decides (alone or with the tension).
+    pub fn shear(self) -> bool {
+        matches!(self, Over::Shear | Over::Both)
     }
 
+    /// The tension decides (alone or with the shear).
+    pub fn tension(self) -> bool {
+        matches!(self, Over::Tension | Over::Both)
+    }
+}
+
+/// A verdict and the limit(s) that decide it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Judged {
+    pub verdict: Verdict,
+    pub over: Over,
+}
+
+impl Judged {
+    /// The feasibility rule on the figures of a converged, sound run: infeasible when a
+    /// figure's whole band is over its limit, marginal when a limit lies inside a band,
+    /// feasible otherwise.
+    pub fn of(figures: &Figures, limits: Limits) -> Judged {
+        let [shear, tension] = figures.standing(limits);
+        let verdict = if shear == Standing::Over || tension == Standing::Over {
+            Verdict::Infeasible
+        } else if shear == Standing::Inside || tension == Standing::Inside {
+            Verdict::Marginal
+        } else {
+            Verdict::Feasible
+        };
+        Judged::explain(verdict, Some(figures), limits)
+    }
+
+    /// A verdict given before (a row of `results.csv`, whose figures are rounded), with the
+    /// limit(s) that decide it by the error bands of `figures`. A row INFEASIBLE by a hair that
+    /// its rounded figures no longer show wholly over is put down to the figures over their
+    /// limits by value.
+    pub fn explain(verdict: Verdict, figures: Option<&Figures>, limits: Limits) -> Judged {
+        let over = match figures {
+            Some(f) => {
+                let [shear, tension] = f.standing(limits);
+                let by = |s: Standing| Over::of(shear == s, tension == s);
+                match verdict {
+                    Verdict::Infeasible => match by(Standing::Over) {
+                        Over::None => Over::of(
+                            f.max_shear_deg > limits.locking_angle_deg,
+                            f.max_tension_n > limits.break_tension_n,
+                        ),
+                        over => over,
+                    },
+                    Verdict::Marginal => by(Standing::Inside),
+                    _ => Over::None,
+                }
+            }
+            None => Over::None,
+        };
+        Judged { verdict, over }
+    }
+
+    /// The judgement of a run with no answer to trust.
+    pub fn failed() -> Judged {
+        Judged {
+            verdict: Verdict::Failed,
+            over: Over::None,
+        }
+    }
+
+    /// The verdict in a word and its mark, as the explorer's table shows it: `✓ feasible`,
+    /// `≈ marginal`, `✗ shear` or `✗ tension` (the limit that decides it; the shear when both
+    /// do), `! failed`, `- invalid`.
+    pub fn label(&self) -> &'static str {
+        match self.verdict {
+            Verdict::Feasible => "✓ feasible",
+            Verdict::Marginal => "≈ marginal",
+            Verdict::Infeasible if self.over.shear() => "✗ shear",
+            Verdict::Infeasible if self.over.tension() => "✗ tension",
+            Verdict::Infeasible => "✗ over",
+            Verdict::Failed => "! failed",
+            Verdict::Invalid => "- invalid",
+        }
+    }
+
+    /// The verdict of trusted `figures` in a sentence: `FEASIBLE`, `MARGINAL: the locking
+    /// angle … lies within …`, `INFEASIBLE: shear over the locking angle`, ….
+    pub fn sentence(&self, figures: &Figures, limits: Limits) -> String {
+        match self.verdict {
+            Verdict::Marginal => {
+                let mut why = Vec::new();
+                if self.over.shear() {
+                    why.push(format!(
+                        "the locking angle {}° lies within the max shear {:.1}° ± {:.1}°",
+                        limits.locking_angle_deg, figures.max_shear_deg, figures.max_shear_err_deg
+                    ));
+                }
+                if self.over.tension() {
+                    why.push(format!(
+                        "the break tension {} N lies within the max tension {:.0} N ± {:.0} %",
+                        limits.break_tension_n, figures.max_tension_n, figures.max_tension_err_pct
+                    ));
+                }
+                format!("MARGINAL: {}", why.join("; "))
+            }
+            Verdict::Infeasible => match self.over {
+                Over::Shear => "INFEASIBLE: shear over the locking angle".to_string(),
+                Over::Tension => "INFEASIBLE: yarn tension over the break".to_string(),
+                Over::Both | Over::None => {
+                    "INFEASIBLE: shear over the locking angle, yarn tension over the break"
+                        .to_string()
+                }
+            },
+            v => v.word().to_string(),
+        }
+    }
+}
+
+/// What the rule looks at: how the run ended, its figures and the fabric's limits.
+#[derive(Clone, Copy, Debug)]
+pub struct Facts<'a> {
+    pub converged: bool,
+    /// The scene has no unique shape (the model has no answer).
+    pub no_answer: bool,
+    /// Why a converged result cannot be trusted (empty: it can).
+    pub unsound: &'a [String],
+    pub figures: Figures,
+    pub limits: Limits,
+    /// Stroke reached and asked for, mm.
+    pub stroke_reached_mm: f64,
+    pub stroke_mm: f64,
+}
+
+impl Facts<'_> {
     /// The run's answer can be used: the full stroke, a sound result.
     pub fn trusted(&self) -> bool {
         self.converged && self.unsound.is_empty()
     }
-}
 
-impl Verdict {
-    /// The feasibility rule.
-    pub fn judge(f: &Facts) -> Verdict {
-        if !f.trusted() {
-            Verdict::Failed
-        } else if f.shear_band()[0] > f.locking_angle_deg || f.tension_band()[0] > f.break_tension_n
-        {
-            Verdict::Infeasible
-        } else if f.shear_marginal() || f.tension_marginal() {
-            Verdict::Marginal
+    /// The verdict of the run: FAILED when its answer cannot be trusted, else the rule's on its
+    /// figures ([`Judged::of`]).
+    pub fn judge(&self) -> Judged {
+        if self.trusted() {
+            Judged::of(&self.figures, self.limits)
         } else {
-            Verdict::Feasible
+            Judged::failed()
         }
     }
 
     /// The verdict in a sentence, as the run summary and the maps' titles give it:
     /// `FEASIBLE`, `INFEASIBLE: shear over the locking angle`, `RUN FAILED at stroke …`,
     /// `NOT SOUND: …`, `NO ANSWER: …`.
-    pub fn sentence(f: &Facts) -> String {
-        if f.no_answer {
+    pub fn sentence(&self) -> String {
+        if self.no_answer {
             return "NO ANSWER: the model has no unique shape for this scene".to_string();
         }
-        if !f.converged {
+        if !self.converged {
             return format!(
                 "RUN FAILED at stroke {:.1} of {:.1} mm",
-                f.stroke_reached_mm, f.stroke_mm
+                self.stroke_reached_mm, self.stroke_mm
             );
         }
-        if !f.unsound.is_empty() {
-            return format!("NOT SOUND: {}", f.unsound.join("; "));
+        if !self.unsound.is_empty() {
+            return format!("NOT SOUND: {}", self.unsound.join("; "));
         }
-        if Verdict::judge(f) == Verdict::Marginal {
-            let mut why = Vec::new();
-            if f.shear_marginal() {
-                why.push(format!(
-                    "the locking angle {}° lies within the max shear {:.1}° ± {:.1}°",
-                    f.locking_angle_deg, f.max_shear_deg, f.max_shear_err_deg
-                ));
-            }
-            if f.tension_marginal() {
-                why.push(format!(
-                    "the break tension {} N lies within the max tension {:.0} N ± {:.0} %",
-                    f.break_tension_n, f.max_tension_n, f.max_tension_err_pct
-                ));
-            }
-            return format!("MARGINAL: {}", why.join("; "));
-        }
-        match (f.shear_over(), f.tension_over()) {
-            (false, false) => "FEASIBLE".to_string(),
-            (true, false) => "INFEASIBLE: shear over the locking angle".to_string(),
-            (false, true) => "INFEASIBLE: yarn tension over the break".to_string(),
-            (true, true) => {
-                "INFEASIBLE: shear over the locking angle, yarn tension over the break".to_string()
-            }
-        }
+        self.judge().sentence(&self.figures, self.limits)
     }
+}
 
+impl Verdict {
     /// The word written in tables and CSV files.
     pub fn word(self) -> &'static str {
         match self {
@@ -180,7 +333,7 @@ impl Verdict {
         Verdict::ALL.into_iter().find(|v| v.word() == word)
     }
 
-    /// The verdict a sentence of [`Verdict::sentence`] gives: its first word, or FAILED for a
+    /// The verdict a sentence of [`Facts::sentence`] gives: its first word, or FAILED for a
     /// run that cannot be trusted (`RUN FAILED …`, `NOT SOUND: …`, `NO ANSWER: …`).
     pub fn of_sentence(sentence: &str) -> Verdict {
         let word = sentence.split(':').next().unwrap_or("").trim();
@@ -206,68 +359,147 @@ mod tests {
             converged: true,
             no_answer: false,
             unsound: &[],
-            max_shear_deg: shear,
-            max_tension_n: tension,
-            locking_angle_deg: 60.0,
-            break_tension_n: 1000.0,
-            max_shear_err_deg: 0.0,
-            max_tension_err_pct: 0.0,
+            figures: Figures {
+                max_shear_deg: shear,
+                max_tension_n: tension,
+                max_shear_err_deg: 0.0,
+                max_tension_err_pct: 0.0,
+            },
+            limits: Limits {
+                locking_angle_deg: 60.0,
+                break_tension_n: 1000.0,
+            },
             stroke_reached_mm: 28.0,
             stroke_mm: 28.0,
         }
     }
 
+    fn judge(f: &Facts) -> Verdict {
+        f.judge().verdict
+    }
+
+    fn sentence(f: &Facts) -> String {
+        f.sentence()
+    }
+
     #[test]
     fn the_rule_compares_each_figure_with_its_limit() {
-        assert_eq!(Verdict::judge(&facts(59.9, 999.0)), Verdict::Feasible);
-        assert_eq!(Verdict::judge(&facts(60.0, 1000.0)), Verdict::Feasible);
-        assert_eq!(Verdict::judge(&facts(60.1, 10.0)), Verdict::Infeasible);
-        assert_eq!(Verdict::judge(&facts(10.0, 1000.5)), Verdict::Infeasible);
+        assert_eq!(judge(&facts(59.9, 999.0)), Verdict::Feasible);
+        assert_eq!(judge(&facts(60.0, 1000.0)), Verdict::Feasible);
+        assert_eq!(judge(&facts(60.1, 10.0)), Verdict::Infeasible);
+        assert_eq!(judge(&facts(10.0, 1000.5)), Verdict::Infeasible);
         let reasons = ["penetration".to_string()];
         let unsound = Facts {
             unsound: &reasons,
             ..facts(10.0, 10.0)
         };
-        assert_eq!(Verdict::judge(&unsound), Verdict::Failed);
-        assert!(Verdict::sentence(&unsound).starts_with("NOT SOUND: penetration"));
+        assert_eq!(judge(&unsound), Verdict::Failed);
+        assert!(sentence(&unsound).starts_with("NOT SOUND: penetration"));
         let stopped = Facts {
             converged: false,
             stroke_reached_mm: 12.34,
             ..facts(10.0, 10.0)
         };
-        assert_eq!(Verdict::judge(&stopped), Verdict::Failed);
+        assert_eq!(judge(&stopped), Verdict::Failed);
+        assert_eq!(sentence(&stopped), "RUN FAILED at stroke 12.3 of 28.0 mm");
         assert_eq!(
-            Verdict::sentence(&stopped),
-            "RUN FAILED at stroke 12.3 of 28.0 mm"
-        );
-        assert_eq!(
-            Verdict::sentence(&facts(61.0, 1001.0)),
+            sentence(&facts(61.0, 1001.0)),
             "INFEASIBLE: shear over the locking angle, yarn tension over the break"
         );
     }
 
+    /// `facts` with the errors ±1° and ±10 %.
+    fn banded(shear: f64, tension: f64) -> Facts<'static> {
+        let mut f = facts(shear, tension);
+        f.figures.max_shear_err_deg = 1.0;
+        f.figures.max_tension_err_pct = 10.0;
+        f
+    }
+
     #[test]
     fn a_limit_inside_the_error_band_is_marginal() {
-        let banded = |shear: f64, tension: f64| Facts {
-            max_shear_err_deg: 1.0,
-            max_tension_err_pct: 10.0,
-            ..facts(shear, tension)
-        };
+        let banded = |shear: f64, tension: f64| banded(shear, tension);
         // 59.03° ± 1°: the band [58.03, 60.03] holds 60°.
-        assert_eq!(Verdict::judge(&banded(59.03, 500.0)), Verdict::Marginal);
-        assert_eq!(Verdict::judge(&banded(60.9, 500.0)), Verdict::Marginal);
-        assert_eq!(Verdict::judge(&banded(58.9, 500.0)), Verdict::Feasible);
-        assert_eq!(Verdict::judge(&banded(61.1, 500.0)), Verdict::Infeasible);
+        assert_eq!(judge(&banded(59.03, 500.0)), Verdict::Marginal);
+        assert_eq!(judge(&banded(60.9, 500.0)), Verdict::Marginal);
+        assert_eq!(judge(&banded(58.9, 500.0)), Verdict::Feasible);
+        assert_eq!(judge(&banded(61.1, 500.0)), Verdict::Infeasible);
         // 950 N ± 10 %: [855, 1045] holds 1000 N; 1120 N: [1008, 1232] is all over.
-        assert_eq!(Verdict::judge(&banded(30.0, 950.0)), Verdict::Marginal);
-        assert_eq!(Verdict::judge(&banded(30.0, 1120.0)), Verdict::Infeasible);
-        assert_eq!(Verdict::judge(&banded(30.0, 900.0)), Verdict::Feasible);
+        assert_eq!(judge(&banded(30.0, 950.0)), Verdict::Marginal);
+        assert_eq!(judge(&banded(30.0, 1120.0)), Verdict::Infeasible);
+        assert_eq!(judge(&banded(30.0, 900.0)), Verdict::Feasible);
         // Over one limit by more than its error decides, whatever the other.
-        assert_eq!(Verdict::judge(&banded(61.5, 950.0)), Verdict::Infeasible);
-        let s = Verdict::sentence(&banded(59.03, 500.0));
+        assert_eq!(judge(&banded(61.5, 950.0)), Verdict::Infeasible);
+        let s = sentence(&banded(59.03, 500.0));
         assert_eq!(
             s,
             "MARGINAL: the locking angle 60° lies within the max shear 59.0° ± 1.0°"
+        );
+    }
+
+    #[test]
+    fn the_reason_is_the_limit_whose_whole_band_is_over() {
+        // Tension 1120 N ± 10 %: [1008, 1232], all over 1000 N; shear 60.5° ± 1°: over 60° by
+        // value, but only inside its band. Infeasible by the tension alone.
+        let by_tension = banded(60.5, 1120.0);
+        let judged = by_tension.judge();
+        assert_eq!(judged.verdict, Verdict::Infeasible);
+        assert_eq!(judged.over, Over::Tension);
+        assert_eq!(judged.label(), "✗ tension");
+        assert_eq!(
+            sentence(&by_tension),
+            "INFEASIBLE: yarn tension over the break"
+        );
+        // The converse: shear 61.5° ± 1° all over 60°; tension 1050 N ± 10 % over 1000 N by
+        // value, inside its band.
+        let by_shear = banded(61.5, 1050.0);
+        let judged = by_shear.judge();
+        assert_eq!(judged.over, Over::Shear);
+        assert_eq!(judged.label(), "✗ shear");
+        assert_eq!(
+            sentence(&by_shear),
+            "INFEASIBLE: shear over the locking angle"
+        );
+        // Both wholly over.
+        let both = banded(61.5, 1120.0).judge();
+        assert_eq!((both.over, both.label()), (Over::Both, "✗ shear"));
+        // Marginal: the figures whose band holds the limit; feasible and failed: none.
+        let marginal = banded(59.5, 950.0).judge();
+        assert_eq!(
+            (marginal.verdict, marginal.over),
+            (Verdict::Marginal, Over::Both)
+        );
+        assert_eq!(banded(30.0, 500.0).judge().over, Over::None);
+        let stopped = Facts {
+            converged: false,
+            ..banded(61.5, 1120.0)
+        };
+        assert_eq!(stopped.judge(), Judged::failed());
+    }
+
+    #[test]
+    fn a_verdict_given_before_is_explained_by_the_bands() {
+        let limits = Limits {
+            locking_angle_deg: 60.0,
+            break_tension_n: 1000.0,
+        };
+        let f = banded(60.5, 1120.0).figures;
+        let judged = Judged::explain(Verdict::Infeasible, Some(&f), limits);
+        assert_eq!((judged.over, judged.label()), (Over::Tension, "✗ tension"));
+        // Rounded figures that no longer show a band wholly over: the value over decides.
+        let hair = Figures {
+            max_tension_n: 1100.0,
+            ..f
+        };
+        let judged = Judged::explain(Verdict::Infeasible, Some(&hair), limits);
+        assert_eq!(judged.over, Over::Both);
+        assert_eq!(
+            Judged::explain(Verdict::Failed, Some(&f), limits).label(),
+            "! failed"
+        );
+        assert_eq!(
+            Judged::explain(Verdict::Invalid, None, limits).over,
+            Over::None
         );
     }
 

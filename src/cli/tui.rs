@@ -29,10 +29,11 @@ pub fn exec_default() -> Result<(), CliError> {
 
 pub fn exec(args: TuiArgs) -> Result<(), CliError> {
     let source = match &args.sweep {
-        Some(path) => tui::source_of_file(path).map_err(CliError::bad_input)?,
+        Some(path) => tui::source_of_file(path).map_err(|e| CliError::bad_input(e.to_string()))?,
         None => tui::params::default_source(),
     };
-    let params = tui::params::Parameters::new(source).map_err(CliError::bad_input)?;
+    let params =
+        tui::params::Parameters::new(source).map_err(|e| CliError::bad_input(e.to_string()))?;
     if !std::io::stdout().is_terminal() {
         return Err(CliError::bad_input(
             "the explorer needs a terminal; use `wovenform sweep SWEEP.toml --out DIR` in scripts",
@@ -51,7 +52,7 @@ pub fn exec(args: TuiArgs) -> Result<(), CliError> {
         .tempdir()
         .map_err(|e| CliError::failed(format!("cannot make the session folder: {e}")))?
         .keep();
-    tui::explore(params, session).map_err(CliError::failed)
+    tui::explore(params, session).map_err(|e| CliError::failed(e.to_string()))
 }
 
 /// No subcommand and no terminal: the law at the paper's reference strains and a pointer to

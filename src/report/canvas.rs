@@ -39,7 +39,7 @@ pub fn write_png(
     path: &std::path::Path,
     size: (u32, u32),
     what: &'static str,
-    draw: impl FnOnce(&Area<'_>) -> Result<(), String>,
+    draw: impl FnOnce(&Area<'_>) -> Result<(), super::error::PlotError>,
 ) -> Result<(), super::error::DrawError> {
     let fail = super::error::DrawError::at(path, what);
     let mut pixels = vec![0u8; 3 * size.0 as usize * size.1 as usize];

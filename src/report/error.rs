@@ -26,3 +26,13 @@ impl DrawError {
         }
     }
 }
+
+/// The error of the bitmap the pictures are drawn on (plotters' bitmap backend).
+pub type CanvasError =
+    <plotters::prelude::BitMapBackend<'static> as plotters::prelude::DrawingBackend>::ErrorType;
+
+/// What the plotting library said when a shape, a text or a chart could not be drawn on the
+/// canvas (its message as it gives it).
+#[derive(Debug, thiserror::Error)]
+#[error(transparent)]
+pub struct PlotError(#[from] plotters::drawing::DrawingAreaErrorKind<CanvasError>);

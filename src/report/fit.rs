@@ -12,6 +12,34 @@ fn path_key(eps: [f64; 2]) -> Option<i64> {
     Some((eps[1].atan2(eps[0]).to_degrees() * 2.0).round() as i64)
 }
 
+/// Points of a curve, (x, y).
+type Curve = Vec<(f64, f64)>;
+
+/// The model's warp and weft tensions along the straight strain path to `eps_far`, against
+/// the warp strain (%), and the path's name.
+fn path_curves(law: &CellLaw, eps_far: [f64; 2]) -> (String, Curve, Curve) {
+    let mut warp = Vec::new();
+    let mut weft = Vec::new();
+    let mut state = law.initial_state();
+    for k in 0..=100 {
+        let f = k as f64 / 100.0;
+        let eps = [f * eps_far[0], f * eps_far[1]];
+        let r = law.evaluate(eps, state);
+        state = r.crimp;
+        warp.push((100.0 * eps[0], r.t[0]));
+        weft.push((100.0 * eps[0], r.t[1]));
+    }
+    let name = if eps_far[1].abs() < 1e-12 {
+        "ε22 = 0".to_string()
+    } else if eps_far[0].abs() < 1e-12 {
+        "ε11 = 0".to_string()
+    } else {
+        let k = eps_far[0] / eps_far[1];
+        format!("k = ε11/ε22 = {}", tick_label((k * 1e3).round() / 1e3))
+    };
+    (name, warp, weft)
+}
+
 /// Data (markers: ● warp, × weft) against the fitted model (lines: solid warp, dashed weft),
 /// tension against warp strain. Data on up to 6 straight strain paths get one model curve each;
 /// otherwise the model is drawn at the data points.
@@ -39,25 +67,7 @@ pub fn fit_chart(samples: &[Sample], fit: &FitResult, title: &str) -> LineChart 
                         .total_cmp(&b.eps[0].hypot(b.eps[1]))
                 })
                 .expect("a group has a sample");
-            let mut warp = Vec::new();
-            let mut weft = Vec::new();
-            let mut state = law.initial_state();
-            for k in 0..=100 {
-                let f = k as f64 / 100.0;
-                let eps = [f * far.eps[0], f * far.eps[1]];
-                let r = law.evaluate(eps, state);
-                state = r.crimp;
-                warp.push((pct(eps[0]), r.t[0]));
-                weft.push((pct(eps[0]), r.t[1]));
-            }
-            let name = if far.eps[1].abs() < 1e-12 {
-                "ε22 = 0".to_string()
-            } else if far.eps[0].abs() < 1e-12 {
-                "ε11 = 0".to_string()
-            } else {
-                let k = far.eps[0] / far.eps[1];
-                format!("k = ε11/ε22 = {}", tick_label((k * 1e3).round() / 1e3))
-            };
+            let (name, warp, weft) = path_curves(&law, far.eps);
             chart.push(Series::line(name, warp, colour));
             chart.push(Series::dashed("", weft, colour));
             let data = |a: usize| group.iter().map(|s| (pct(s.eps[0]), s.t[a])).collect();

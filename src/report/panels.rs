@@ -21,6 +21,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::canvas::{Area, text_width};
+use super::error::PlotError;
 use super::maps::{OVER_LIMIT, nice_step};
 use super::plot::{Colour, tick_label};
 use crate::verdict::Verdict;
@@ -91,51 +92,44 @@ fn draw_marker(
     (x, y): (i32, i32),
     c: RGBColor,
     size: i32,
-) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| e.to_string();
-    let hollow = |r: &Area| -> Result<(), String> {
-        r.draw(&Circle::new((x, y), size, WHITE.filled()))
-            .map_err(|e| err(&e))?;
+) -> Result<(), PlotError> {
+    let hollow = |r: &Area| -> Result<(), PlotError> {
+        r.draw(&Circle::new((x, y), size, WHITE.filled()))?;
         r.draw(&Circle::new(
             (x, y),
             size,
             ShapeStyle::from(c).stroke_width(2),
-        ))
-        .map_err(|e| err(&e))
+        ))?;
+        Ok(())
     };
     match verdict {
-        Verdict::Feasible => root
-            .draw(&Circle::new((x, y), size, c.filled()))
-            .map_err(|e| err(&e)),
-        Verdict::Marginal => hollow(root),
+        Verdict::Feasible => root.draw(&Circle::new((x, y), size, c.filled()))?,
+        Verdict::Marginal => hollow(root)?,
         Verdict::Infeasible => {
             let s = size;
             let line = ShapeStyle::from(c).stroke_width(3);
             root.draw(&PathElement::new(
                 vec![(x - s, y - s), (x + s, y + s)],
                 line,
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             root.draw(&PathElement::new(
                 vec![(x - s, y + s), (x + s, y - s)],
                 line,
-            ))
-            .map_err(|e| err(&e))
+            ))?
         }
         Verdict::Failed | Verdict::Invalid => {
             let s = size - 1;
             root.draw(&Rectangle::new(
                 [(x - s, y - s), (x + s, y + s)],
                 WHITE.filled(),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             root.draw(&Rectangle::new(
                 [(x - s, y - s), (x + s, y + s)],
                 ShapeStyle::from(c).stroke_width(2),
-            ))
-            .map_err(|e| err(&e))
+            ))?
         }
     }
+    Ok(())
 }
 
 /// Text at `(x, y)` anchored by `pos`, shrunk until it fits `max_w` pixels.
@@ -149,7 +143,7 @@ fn label(
     bold: bool,
     colour: RGBColor,
     max_w: i32,
-) -> Result<i32, String> {
+) -> Result<i32, PlotError> {
     let style = if bold {
         FontStyle::Bold
     } else {
@@ -164,8 +158,7 @@ fn label(
         .style(style)
         .color(&colour)
         .pos(Pos::new(pos.0, pos.1));
-    root.draw(&Text::new(text.to_string(), (x, y), font))
-        .map_err(|e| e.to_string())?;
+    root.draw(&Text::new(text.to_string(), (x, y), font))?;
     Ok(text_width(text, size, style).round() as i32)
 }
 
@@ -262,7 +255,7 @@ impl Panels {
     }
 
     /// Draws the panels into `root` at `(x, y)`, `width` pixels wide.
-    pub fn draw(&self, root: &Area, (x, y): (i32, i32), width: i32) -> Result<(), String> {
+    pub fn draw(&self, root: &Area, (x, y): (i32, i32), width: i32) -> Result<(), PlotError> {
         self.draw_head(root, (x, y), width)?;
         let (w, h) = self.plot_size(width);
         for (i, panel) in self.panels.iter().enumerate() {
@@ -291,14 +284,12 @@ impl Panels {
                 .transform(FontTransform::Rotate270)
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Center, VPos::Top)),
-        ))
-        .map_err(|e| e.to_string())?;
+        ))?;
         Ok(())
     }
 
     /// The title, the colour key and the marker key.
-    fn draw_head(&self, root: &Area, (x, y): (i32, i32), width: i32) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    fn draw_head(&self, root: &Area, (x, y): (i32, i32), width: i32) -> Result<(), PlotError> {
         let grey = RGBColor(50, 50, 50);
         label(
             root,
@@ -310,40 +301,62 @@ impl Panels {
             BLACK,
             width,
         )?;
-        // The colours of the lines, on as many rows as they need.
         if !self.key.is_empty() {
-            let (title_w, places) = self.key_layout(width);
+            self.draw_colour_key(root, (x, y), width, grey)?;
+        }
+        self.draw_marker_key(root, (x, y), width, grey)?;
+        Ok(())
+    }
+
+    /// The colours of the lines and their names, on as many rows as they need.
+    fn draw_colour_key(
+        &self,
+        root: &Area,
+        (x, y): (i32, i32),
+        width: i32,
+        grey: RGBColor,
+    ) -> Result<(), PlotError> {
+        let (title_w, places) = self.key_layout(width);
+        label(
+            root,
+            &self.key_heading(),
+            (x, y + 52),
+            (HPos::Left, VPos::Center),
+            18.0,
+            true,
+            grey,
+            title_w,
+        )?;
+        for ((name, colour), (dx, row)) in self.key.iter().zip(places) {
+            let (cx, ky) = (x + dx, y + 52 + 30 * row);
+            let c = RGBColor(colour.0, colour.1, colour.2);
+            root.draw(&PathElement::new(
+                vec![(cx, ky), (cx + KEY_SWATCH, ky)],
+                ShapeStyle::from(c).stroke_width(4),
+            ))?;
             label(
                 root,
-                &self.key_heading(),
-                (x, y + 52),
+                name,
+                (cx + KEY_SWATCH + 6, ky),
                 (HPos::Left, VPos::Center),
                 18.0,
-                true,
-                grey,
-                title_w,
+                false,
+                BLACK,
+                width - dx - KEY_SWATCH - 6,
             )?;
-            for ((name, colour), (dx, row)) in self.key.iter().zip(places) {
-                let (cx, ky) = (x + dx, y + 52 + 30 * row);
-                let c = RGBColor(colour.0, colour.1, colour.2);
-                root.draw(&PathElement::new(
-                    vec![(cx, ky), (cx + KEY_SWATCH, ky)],
-                    ShapeStyle::from(c).stroke_width(4),
-                ))
-                .map_err(|e| err(&e))?;
-                label(
-                    root,
-                    name,
-                    (cx + KEY_SWATCH + 6, ky),
-                    (HPos::Left, VPos::Center),
-                    18.0,
-                    false,
-                    BLACK,
-                    width - dx - KEY_SWATCH - 6,
-                )?;
-            }
         }
-        // What the markers say, drawn in grey (each panel draws them in its lines' colours).
+        Ok(())
+    }
+
+    /// What the markers say, drawn in grey (each panel draws them in its lines' colours),
+    /// and the limit's line and shade.
+    fn draw_marker_key(
+        &self,
+        root: &Area,
+        (x, y): (i32, i32),
+        width: i32,
+        grey: RGBColor,
+    ) -> Result<(), PlotError> {
         let my = y + self.head(width) - 30;
         let mut mx = x;
         mx += label(
@@ -383,8 +396,7 @@ impl Panels {
             root.draw(&Rectangle::new(
                 [(mx, my - 11), (mx + 34, my + 11)],
                 shade.filled(),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             dashed(root, (mx, mx + 34), my, BLACK)?;
             mx += 42;
             label(
@@ -408,8 +420,7 @@ impl Panels {
         (left, top): (i32, i32),
         (w, h): (i32, i32),
         first_column: bool,
-    ) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    ) -> Result<(), PlotError> {
         let (right, bottom) = (left + w, top + h);
         // The values above, the band of the designs without an answer below.
         let strip = self.no_answer_strip();
@@ -431,58 +442,15 @@ impl Panels {
                 root.draw(&Rectangle::new(
                     [(left, top), (right, yl)],
                     over_limit_shade().filled(),
-                ))
-                .map_err(|e| err(&e))?;
+                ))?;
             }
         }
-        let grid = ShapeStyle::from(RGBColor(225, 225, 225)).stroke_width(1);
-        let (y0, y1) = self.y_range;
-        let step = nice_step((y1 - y0) / 5.0);
-        let mut v = (y0 / step).ceil() * step;
-        while v <= y1 + 1e-9 {
-            let yy = self.py(v, top, dh);
-            root.draw(&PathElement::new(vec![(left, yy), (right, yy)], grid))
-                .map_err(|e| err(&e))?;
-            if first_column {
-                label(
-                    root,
-                    &tick_label(v),
-                    (left - 8, yy),
-                    (HPos::Right, VPos::Center),
-                    16.0,
-                    false,
-                    BLACK,
-                    LEFT - 30,
-                )?;
-            }
-            v += step;
-        }
-        for (v, text) in &self.x_ticks {
-            let xx = self.px(*v, left, w);
-            root.draw(&PathElement::new(vec![(xx, top), (xx, bottom)], grid))
-                .map_err(|e| err(&e))?;
-            root.draw(&PathElement::new(
-                vec![(xx, bottom + 2), (xx, bottom + 6)],
-                ShapeStyle::from(BLACK).stroke_width(1),
-            ))
-            .map_err(|e| err(&e))?;
-            label(
-                root,
-                text,
-                (xx, bottom + 10),
-                (HPos::Center, VPos::Top),
-                16.0,
-                false,
-                BLACK,
-                (w / self.x_ticks.len().max(1) as i32).max(20),
-            )?;
-        }
+        self.draw_grid(root, (left, top), (w, h), dh, first_column)?;
         if strip > 0 {
             root.draw(&Rectangle::new(
                 [(left, floor), (right, bottom)],
                 RGBColor(238, 238, 238).filled(),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             if first_column {
                 label(
                     root,
@@ -499,14 +467,80 @@ impl Panels {
         root.draw(&Rectangle::new(
             [(left, top), (right, bottom)],
             ShapeStyle::from(RGBColor(130, 130, 130)).stroke_width(1),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
         if let Some((limit, _)) = self.limit {
             let yl = self.py(limit, top, dh);
             if yl >= top && yl <= floor {
                 dashed(root, (left, right), yl, BLACK)?;
             }
         }
+        self.draw_lines(root, panel, (left, top), (w, h), dh)?;
+        Ok(())
+    }
+
+    /// The grid of a panel: its y values (labelled in the first column) and its x ticks.
+    fn draw_grid(
+        &self,
+        root: &Area,
+        (left, top): (i32, i32),
+        (w, h): (i32, i32),
+        dh: i32,
+        first_column: bool,
+    ) -> Result<(), PlotError> {
+        let (right, bottom) = (left + w, top + h);
+        let grid = ShapeStyle::from(RGBColor(225, 225, 225)).stroke_width(1);
+        let (y0, y1) = self.y_range;
+        let step = nice_step((y1 - y0) / 5.0);
+        let mut v = (y0 / step).ceil() * step;
+        while v <= y1 + 1e-9 {
+            let yy = self.py(v, top, dh);
+            root.draw(&PathElement::new(vec![(left, yy), (right, yy)], grid))?;
+            if first_column {
+                label(
+                    root,
+                    &tick_label(v),
+                    (left - 8, yy),
+                    (HPos::Right, VPos::Center),
+                    16.0,
+                    false,
+                    BLACK,
+                    LEFT - 30,
+                )?;
+            }
+            v += step;
+        }
+        for (v, text) in &self.x_ticks {
+            let xx = self.px(*v, left, w);
+            root.draw(&PathElement::new(vec![(xx, top), (xx, bottom)], grid))?;
+            root.draw(&PathElement::new(
+                vec![(xx, bottom + 2), (xx, bottom + 6)],
+                ShapeStyle::from(BLACK).stroke_width(1),
+            ))?;
+            label(
+                root,
+                text,
+                (xx, bottom + 10),
+                (HPos::Center, VPos::Top),
+                16.0,
+                false,
+                BLACK,
+                (w / self.x_ticks.len().max(1) as i32).max(20),
+            )?;
+        }
+        Ok(())
+    }
+
+    /// A panel's lines, then their markers on top (those without an answer in the band at
+    /// the bottom, a row per line).
+    fn draw_lines(
+        &self,
+        root: &Area,
+        panel: &Panel,
+        (left, top): (i32, i32),
+        (w, h): (i32, i32),
+        dh: i32,
+    ) -> Result<(), PlotError> {
+        let bottom = top + h;
         // The lines, then their markers on top.
         for line in &panel.lines {
             let c = RGBColor(line.colour.0, line.colour.1, line.colour.2);
@@ -516,8 +550,7 @@ impl Panels {
                 .filter_map(|p| Some((self.px(p.x, left, w), self.py(p.y?, top, dh))))
                 .collect();
             if self.connect && pts.len() > 1 {
-                root.draw(&PathElement::new(pts, ShapeStyle::from(c).stroke_width(2)))
-                    .map_err(|e| err(&e))?;
+                root.draw(&PathElement::new(pts, ShapeStyle::from(c).stroke_width(2)))?;
             }
         }
         for (li, line) in panel.lines.iter().enumerate() {
@@ -544,15 +577,14 @@ fn over_limit_shade() -> RGBColor {
 }
 
 /// A horizontal dashed line from `x0` to `x1` at row `y`.
-fn dashed(root: &Area, (x0, x1): (i32, i32), y: i32, c: RGBColor) -> Result<(), String> {
+fn dashed(root: &Area, (x0, x1): (i32, i32), y: i32, c: RGBColor) -> Result<(), PlotError> {
     let mut x = x0;
     while x < x1 {
         let end = (x + 9).min(x1);
         root.draw(&PathElement::new(
             vec![(x, y), (end, y)],
             ShapeStyle::from(c).stroke_width(2),
-        ))
-        .map_err(|e| e.to_string())?;
+        ))?;
         x += 15;
     }
     Ok(())

@@ -11,8 +11,8 @@
 //! chart.write_png(std::path::Path::new("out/chart.png")).unwrap();
 //! ```
 
-use super::canvas::{Area, write_png};
-use super::error::DrawError;
+use super::canvas::{Area, Canvas, write_png};
+use super::error::{DrawError, PlotError};
 use std::path::Path;
 use std::sync::Once;
 
@@ -226,7 +226,7 @@ impl LineChart {
 
     /// Draws the chart into a part of a larger picture (a report sheet); `self.size` is not
     /// used, the chart fills `area`. The caller presents the picture.
-    pub fn draw_into(&self, area: &Area<'_>) -> Result<(), String> {
+    pub fn draw_into(&self, area: &Area<'_>) -> Result<(), PlotError> {
         register_fonts();
         let ((x0, x1), (y0, y1)) = self.ranges();
         match (self.x_scale, self.y_scale) {
@@ -239,22 +239,20 @@ impl LineChart {
         }
     }
 
-    fn draw_on<X, Y>(&self, root: &Area<'_>, x_spec: X, y_spec: Y) -> Result<(), String>
+    fn draw_on<X, Y>(&self, root: &Area<'_>, x_spec: X, y_spec: Y) -> Result<(), PlotError>
     where
         X: AsRangedCoord<Value = f64>,
         Y: AsRangedCoord<Value = f64>,
         X::CoordDescType: ValueFormatter<f64>,
         Y::CoordDescType: ValueFormatter<f64>,
     {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
         let font = "sans-serif";
         let mut chart = ChartBuilder::on(root)
             .caption(&self.title, (font, 28))
             .margin(20)
             .x_label_area_size(65)
             .y_label_area_size(90)
-            .build_cartesian_2d(x_spec, y_spec)
-            .map_err(|e| err(&e))?;
+            .build_cartesian_2d(x_spec, y_spec)?;
         chart
             .configure_mesh()
             .x_desc(&self.x_label)
@@ -265,9 +263,39 @@ impl LineChart {
             .y_label_formatter(&|v| tick_label(*v))
             .light_line_style(RGBColor(235, 235, 235))
             .bold_line_style(RGBColor(205, 205, 205))
-            .draw()
-            .map_err(|e| err(&e))?;
+            .draw()?;
 
+        let any_legend = self.draw_series(&mut chart)?;
+        if any_legend {
+            let position = match self.legend_at {
+                LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
+                LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
+                LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
+                LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
+            };
+            chart
+                .configure_series_labels()
+                .position(position)
+                .margin(12)
+                .legend_area_size(34)
+                .background_style(WHITE.mix(0.9))
+                .border_style(RGBColor(150, 150, 150))
+                .label_font((font, 17))
+                .draw()?;
+        }
+        Ok(())
+    }
+
+    /// Draws every series on `chart`, each with its legend entry when it has a name; whether
+    /// any has one.
+    fn draw_series<'a, X, Y>(
+        &self,
+        chart: &mut ChartContext<'a, Canvas<'a>, Cartesian2d<X, Y>>,
+    ) -> Result<bool, PlotError>
+    where
+        X: Ranged<ValueType = f64>,
+        Y: Ranged<ValueType = f64>,
+    {
         let mut any_legend = false;
         for s in &self.series {
             let colour = s.colour.rgb();
@@ -291,8 +319,7 @@ impl LineChart {
                         .into_iter()
                         .map(|p| Cross::new(p, 5, ShapeStyle::from(colour).stroke_width(2))),
                 ),
-            }
-            .map_err(|e| err(&e))?;
+            }?;
             if s.name.is_empty() {
                 continue;
             }
@@ -315,25 +342,7 @@ impl LineChart {
                 Style::Crosses => anno.legend(move |(x, y)| Cross::new((x + 13, y), 5, line)),
             };
         }
-        if any_legend {
-            let position = match self.legend_at {
-                LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
-                LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
-                LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
-                LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
-            };
-            chart
-                .configure_series_labels()
-                .position(position)
-                .margin(12)
-                .legend_area_size(34)
-                .background_style(WHITE.mix(0.9))
-                .border_style(RGBColor(150, 150, 150))
-                .label_font((font, 17))
-                .draw()
-                .map_err(|e| err(&e))?;
-        }
-        Ok(())
+        Ok(any_legend)
     }
 }
 

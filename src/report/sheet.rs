@@ -22,7 +22,7 @@
 //! The maps are drawn with [`super::maps::colour_of`], the scale of the single-design maps:
 //! pale to dark blue up to the locking angle, magenta past it.
 
-use super::error::DrawError;
+use super::error::{DrawError, PlotError};
 use std::path::Path;
 
 use plotters::prelude::*;
@@ -147,7 +147,7 @@ impl Sheet {
         write_png(path, size, "sheet", |root| self.draw(root, size))
     }
 
-    fn draw(&self, root: &Area, (width, _): (u32, u32)) -> Result<(), String> {
+    fn draw(&self, root: &Area, (width, _): (u32, u32)) -> Result<(), PlotError> {
         let width = width as i32;
         fit_text(
             root,
@@ -191,7 +191,12 @@ impl Sheet {
         }
         grid_top += 36;
         self.draw_tiles(root, MARGIN, grid_top, cols)?;
-        let chart_x = MARGIN + grid_w + 50;
+        self.draw_right(root, MARGIN + grid_w + 50, top)?;
+        Ok(())
+    }
+
+    /// The right column from `(chart_x, top)`: the chart, its notes, the ranking.
+    fn draw_right(&self, root: &Area, chart_x: i32, top: i32) -> Result<(), PlotError> {
         if let Some(chart) = &self.chart {
             chart.draw(root, (chart_x, top), CHART_W)?;
         }
@@ -232,8 +237,7 @@ impl Sheet {
     }
 
     /// The shared colour scale, horizontal, with the locking angle marked.
-    fn draw_bar(&self, root: &Area, x: i32, y: i32, w: i32) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    fn draw_bar(&self, root: &Area, x: i32, y: i32, w: i32) -> Result<(), PlotError> {
         let font = "sans-serif";
         let top = if self.scale_max > 0.0 {
             self.scale_max
@@ -251,22 +255,19 @@ impl Sheet {
                 .style(FontStyle::Bold)
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Left, VPos::Center)),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
         for i in x0..x1 {
             let v = top * ((i - x0) as f64 + 0.5) / (x1 - x0) as f64;
             let c = colour_of(v, self.limit);
             root.draw(&Rectangle::new(
                 [(i, y0), (i + 1, y1)],
                 RGBColor(c.0, c.1, c.2).filled(),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
         }
         root.draw(&Rectangle::new(
             [(x0, y0), (x1, y1)],
             ShapeStyle::from(BLACK).stroke_width(1),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
         let step = nice_step(top / 8.0);
         let label = (font, 17)
             .into_font()
@@ -279,53 +280,14 @@ impl Sheet {
             root.draw(&PathElement::new(
                 vec![(p, y1 + 5), (p, y1 + 11)],
                 ShapeStyle::from(BLACK).stroke_width(1),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
             if (p - px(self.limit)).abs() > 28 {
-                root.draw(&Text::new(tick_label(v), (p, y1 + 19), label.clone()))
-                    .map_err(|e| err(&e))?;
+                root.draw(&Text::new(tick_label(v), (p, y1 + 19), label.clone()))?;
             }
             v += step;
         }
         // The locking angle: a thick line across the bar, named above it.
-        let pl = px(self.limit);
-        root.draw(&PathElement::new(
-            vec![(pl, y0 - 10), (pl, y1 + 8)],
-            ShapeStyle::from(BLACK).stroke_width(4),
-        ))
-        .map_err(|e| err(&e))?;
-        root.draw(&Text::new(
-            format!("locking angle {}°", tick_label(self.limit)),
-            (pl, y0 - 12),
-            (font, 20)
-                .into_font()
-                .style(FontStyle::Bold)
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Bottom)),
-        ))
-        .map_err(|e| err(&e))?;
-        root.draw(&Text::new(
-            format!("{}°", tick_label(self.limit)),
-            (pl, y1 + 19),
-            (font, 17)
-                .into_font()
-                .style(FontStyle::Bold)
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Top)),
-        ))
-        .map_err(|e| err(&e))?;
-        if x1 - pl > 150 {
-            root.draw(&Text::new(
-                "over the limit",
-                ((pl + x1) / 2, (y0 + y1) / 2),
-                (font, 18)
-                    .into_font()
-                    .style(FontStyle::Bold)
-                    .color(&WHITE)
-                    .pos(Pos::new(HPos::Center, VPos::Center)),
-            ))
-            .map_err(|e| err(&e))?;
-        }
+        self.draw_bar_limit(root, px(self.limit), (x1, y0, y1))?;
         root.draw(&Text::new(
             "one colour scale for every map of the sweep",
             (x0, y1 + 44),
@@ -333,12 +295,55 @@ impl Sheet {
                 .into_font()
                 .color(&RGBColor(70, 70, 70))
                 .pos(Pos::new(HPos::Left, VPos::Top)),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
         Ok(())
     }
 
-    fn draw_tiles(&self, root: &Area, x: i32, y: i32, cols: i32) -> Result<(), String> {
+    /// The locking angle on the colour bar at `pl`: a thick line across the bar (from `x1`'s
+    /// left, rows `y0..y1`), named above it and valued under it.
+    fn draw_bar_limit(
+        &self,
+        root: &Area,
+        pl: i32,
+        (x1, y0, y1): (i32, i32, i32),
+    ) -> Result<(), PlotError> {
+        root.draw(&PathElement::new(
+            vec![(pl, y0 - 10), (pl, y1 + 8)],
+            ShapeStyle::from(BLACK).stroke_width(4),
+        ))?;
+        root.draw(&Text::new(
+            format!("locking angle {}°", tick_label(self.limit)),
+            (pl, y0 - 12),
+            ("sans-serif", 20)
+                .into_font()
+                .style(FontStyle::Bold)
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Bottom)),
+        ))?;
+        root.draw(&Text::new(
+            format!("{}°", tick_label(self.limit)),
+            (pl, y1 + 19),
+            ("sans-serif", 17)
+                .into_font()
+                .style(FontStyle::Bold)
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top)),
+        ))?;
+        if x1 - pl > 150 {
+            root.draw(&Text::new(
+                "over the limit",
+                ((pl + x1) / 2, (y0 + y1) / 2),
+                ("sans-serif", 18)
+                    .into_font()
+                    .style(FontStyle::Bold)
+                    .color(&WHITE)
+                    .pos(Pos::new(HPos::Center, VPos::Center)),
+            ))?;
+        }
+        Ok(())
+    }
+
+    fn draw_tiles(&self, root: &Area, x: i32, y: i32, cols: i32) -> Result<(), PlotError> {
         let (w, mh, lh) = self.tile_size();
         for (i, tile) in self.tiles.iter().enumerate() {
             let (c, r) = (i as i32 % cols, i as i32 / cols);
@@ -357,8 +362,7 @@ fn draw_tile(
     (x0, y0): (i32, i32),
     (w, h): (i32, i32),
     label_h: i32,
-) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| e.to_string();
+) -> Result<(), PlotError> {
     let font = "sans-serif";
     let (cr, cg, cb) = tile.verdict.colour();
     let colour = RGBColor(cr, cg, cb);
@@ -366,8 +370,7 @@ fn draw_tile(
     root.draw(&Rectangle::new(
         [(x0, y0), (x0 + w, y0 + label_h)],
         colour.mix(0.12).filled(),
-    ))
-    .map_err(|e| err(&e))?;
+    ))?;
     let mut ly = y0 + 9;
     let first = match tile.lines.first() {
         Some(l) => format!("{}  {l}", short_id(&tile.id)),
@@ -407,8 +410,7 @@ fn draw_tile(
                     line,
                     (mx0 + 4, yy),
                     (font, 15).into_font().color(&RGBColor(70, 70, 70)),
-                ))
-                .map_err(|e| err(&e))?;
+                ))?;
                 yy += 19;
             }
         }
@@ -422,8 +424,7 @@ fn draw_tile(
         root.draw(&Rectangle::new(
             [(x0 + k, y0 + k), (x0 + w - k, y0 + h - k)],
             ShapeStyle::from(colour).stroke_width(1),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
     }
     Ok(())
 }
@@ -438,8 +439,7 @@ fn draw_tile_map(
     root: &Area,
     map: &TileMap,
     (x0, y0, x1, y1): (i32, i32, i32, i32),
-) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| e.to_string();
+) -> Result<(), PlotError> {
     let (mut bx0, mut bx1, mut by0, mut by1) = (
         f64::INFINITY,
         f64::NEG_INFINITY,
@@ -469,16 +469,14 @@ fn draw_tile_map(
     for (q, &v) in map.quads.iter().zip(&map.values) {
         let c = colour_of(v, map.limit);
         let pts: Vec<(i32, i32)> = q.iter().map(to_px).collect();
-        root.draw(&Polygon::new(pts, RGBColor(c.0, c.1, c.2).filled()))
-            .map_err(|e| err(&e))?;
+        root.draw(&Polygon::new(pts, RGBColor(c.0, c.1, c.2).filled()))?;
     }
     if !map.die_opening.is_empty() {
         let pts: Vec<(i32, i32)> = map.die_opening.iter().map(to_px).collect();
         root.draw(&PathElement::new(
             pts,
             ShapeStyle::from(RGBColor(90, 90, 90)).stroke_width(1),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
     }
     // Cells past the limit are magenta in the fill; a dot of their colour at their centre keeps
     // a single over-limit cell visible at this size.
@@ -493,8 +491,7 @@ fn draw_tile_map(
             0.25 * (q[0][0] + q[1][0] + q[2][0] + q[3][0]),
             0.25 * (q[0][1] + q[1][1] + q[2][1] + q[3][1]),
         ];
-        root.draw(&Circle::new(to_px(&c), 2, over.filled()))
-            .map_err(|e| err(&e))?;
+        root.draw(&Circle::new(to_px(&c), 2, over.filled()))?;
     }
     Ok(())
 }
@@ -509,7 +506,7 @@ fn fit_text(
     size: u32,
     bold: bool,
     colour: RGBColor,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let style_at = |size: u32| {
         let f = ("sans-serif", size).into_font();
         let f = if bold { f.style(FontStyle::Bold) } else { f };
@@ -522,8 +519,8 @@ fn fit_text(
             _ => break,
         }
     }
-    root.draw(&Text::new(text.to_string(), at, style_at(size)))
-        .map_err(|e| e.to_string())
+    root.draw(&Text::new(text.to_string(), at, style_at(size)))?;
+    Ok(())
 }
 
 /// Splits text into lines of at most `width` characters at spaces.

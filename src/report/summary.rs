@@ -116,6 +116,13 @@ impl RunSummary {
             "draw-in      {:.2} mm at the blank's edge; largest penetration {:.4} mm",
             self.draw_in_mm, self.penetration_mm
         );
+        self.write_solver(out);
+        self.write_accuracy(out);
+    }
+
+    /// How the solver went: its steps, cut-backs, iterations and time, the work out of
+    /// balance.
+    fn write_solver(&self, out: &mut String) {
         let _ = writeln!(
             out,
             "solver       {} step{}, {} cut-back{}, {} Newton iteration{}, {:.2} s; forces out of balance did {}{}{}",
@@ -142,6 +149,10 @@ impl RunSummary {
                 String::new()
             }
         );
+    }
+
+    /// The accuracy level of the mesh and its errors, or that there is none.
+    fn write_accuracy(&self, out: &mut String) {
         let _ = match (
             &self.accuracy,
             self.max_shear_err_deg,

@@ -8,8 +8,9 @@ use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use crate::study::sweep::{Design, Plan, Row, StoredField, counts};
-use crate::verdict::Verdict;
+use crate::verdict::{Limits, Verdict};
 
+use super::error::{FieldError, ParamError, WorkError};
 use super::params::Parameters;
 use super::worker::Message;
 
@@ -27,7 +28,7 @@ pub enum Mode {
     /// Editing the selected parameter: the text typed and what is wrong with it.
     Editing {
         buffer: String,
-        error: Option<String>,
+        error: Option<ParamError>,
     },
     /// Asking where to export.
     Exporting {
@@ -90,7 +91,7 @@ pub struct Entry {
     pub row: Option<Row>,
     /// The design's own limits: the locking angle (°) and the break tension (N), which a
     /// sweep may vary.
-    pub limits: [f64; 2],
+    pub limits: Limits,
     /// The run folder its row and field are in (a design re-run finer has its own), and the
     /// accuracy level its row was run at.
     pub dir: Option<PathBuf>,
@@ -111,58 +112,58 @@ pub struct Sort {
     pub descending: bool,
 }
 
-/// The explorer.
+/// The explorer. Its state is read through the methods below (the view, the keys and the
+/// runs, in this module, see the fields).
 pub struct App {
-    pub params: Parameters,
+    pub(super) params: Parameters,
     /// The plan whose designs the table shows (the parameters may have been edited since).
-    pub table_plan: Plan,
-    pub entries: Vec<Entry>,
-    pub focus: Focus,
-    pub mode: Mode,
+    pub(super) table_plan: Plan,
+    pub(super) entries: Vec<Entry>,
+    pub(super) focus: Focus,
+    pub(super) mode: Mode,
     /// The selected parameter.
-    pub cursor: usize,
+    pub(super) cursor: usize,
     /// The selected line of the visible results.
-    pub selected: usize,
-    pub sort: Sort,
-    pub feasible_only: bool,
-    pub run: RunState,
+    pub(super) selected: usize,
+    pub(super) sort: Sort,
+    pub(super) feasible_only: bool,
+    pub(super) run: RunState,
     /// Designs to run in this run, and finished in it.
-    pub to_run: usize,
-    pub done: usize,
+    pub(super) to_run: usize,
+    pub(super) done: usize,
     /// Seconds since the explorer opened (set by the event loop), and when the run started.
-    pub now_s: f64,
-    pub run_started_s: f64,
+    pub(super) now_s: f64,
+    pub(super) run_started_s: f64,
     /// A line for the user: the export's path, an error.
-    pub status: String,
+    pub(super) status: String,
     /// The status as last seen by the clock, and since when (s): a message fades after
     /// [`STATUS_S`] so the Run panel does not keep stale news.
-    pub status_seen: (String, f64),
+    pub(super) status_seen: (String, f64),
     /// Where the runs of this session are written.
-    pub session: PathBuf,
-    pub runs: usize,
+    pub(super) session: PathBuf,
+    pub(super) runs: usize,
     /// The folder of the latest run, and the hash of the base scene it was run on (the
     /// table's may differ since: limits judged again).
-    pub run_dir: Option<PathBuf>,
-    pub run_base_hash: String,
+    pub(super) run_dir: Option<PathBuf>,
+    pub(super) run_base_hash: String,
     /// The folder of the run in progress (or the last), and its accuracy level.
-    pub active_dir: Option<PathBuf>,
-    pub active_accuracy: Option<crate::accuracy::Accuracy>,
+    pub(super) active_dir: Option<PathBuf>,
+    pub(super) active_accuracy: Option<crate::accuracy::Accuracy>,
     /// Shear fields of finished designs, read from the run folder when first selected.
-    pub fields: HashMap<String, Result<StoredField, String>>,
+    pub(super) fields: HashMap<String, Result<StoredField, FieldError>>,
     /// False where the terminal has no colours: symbols and shades instead.
-    pub colour: bool,
+    pub(super) colour: bool,
     /// Where the next export goes by default.
-    pub export_dir: PathBuf,
+    pub(super) export_dir: PathBuf,
     /// The detail shows the yarn tension map instead of the shear map.
-    pub detail_tension: bool,
+    pub(super) detail_tension: bool,
     /// Each design's own files (maps, VTU), by id: written, or being written (empty).
-    pub design_files: HashMap<String, Result<Vec<PathBuf>, String>>,
+    pub(super) design_files: HashMap<String, Result<Vec<PathBuf>, WorkError>>,
 }
 
 pub(super) fn entries_of(plan: &Plan) -> Vec<Entry> {
     let columns = plan.columns();
-    let fabric = &plan.base_scene.fabric;
-    let base = [fabric.locking_angle_deg, fabric.break_tension_n];
+    let base = Limits::of(&plan.base_scene);
     let swept = plan.axes.iter().any(|a| {
         a.values.len() > 1
             && matches!(
@@ -174,9 +175,7 @@ pub(super) fn entries_of(plan: &Plan) -> Vec<Entry> {
         .into_iter()
         .map(|d| {
             let limits = if swept {
-                plan.design_scene(&d).map_or(base, |s| {
-                    [s.fabric.locking_angle_deg, s.fabric.break_tension_n]
-                })
+                plan.design_scene(&d).map_or(base, |s| Limits::of(&s))
             } else {
                 base
             };
@@ -245,6 +244,89 @@ impl App {
             detail_tension: false,
             design_files: HashMap::new(),
         }
+    }
+
+    /// The parameters as edited.
+    pub fn params(&self) -> &Parameters {
+        &self.params
+    }
+
+    /// The plan whose designs the table shows.
+    pub fn table_plan(&self) -> &Plan {
+        &self.table_plan
+    }
+
+    /// The lines of the results table, in grid order (see [`App::visible`]).
+    pub fn entries(&self) -> &[Entry] {
+        &self.entries
+    }
+
+    pub fn focus(&self) -> Focus {
+        self.focus
+    }
+
+    /// Moves the keys to the results or to the parameters.
+    pub fn set_focus(&mut self, focus: Focus) {
+        self.focus = focus;
+    }
+
+    /// The selected parameter line.
+    pub fn cursor(&self) -> usize {
+        self.cursor
+    }
+
+    /// Selects parameter line `line` (clamped to the lines there are) and moves the keys to
+    /// the parameters.
+    pub fn select_parameter(&mut self, line: usize) {
+        self.focus = Focus::Parameters;
+        self.cursor = line.min(self.params.fields.len().saturating_sub(1));
+    }
+
+    pub fn mode(&self) -> &Mode {
+        &self.mode
+    }
+
+    pub fn sort(&self) -> Sort {
+        self.sort
+    }
+
+    /// Where the sweep is.
+    pub fn run_state(&self) -> &RunState {
+        &self.run
+    }
+
+    /// The line for the user (the export's path, an error), fresh or not.
+    pub fn status(&self) -> &str {
+        &self.status
+    }
+
+    pub fn set_status(&mut self, status: impl Into<String>) {
+        self.status = status.into();
+    }
+
+    /// Seconds since the explorer opened (the event loop sets it on every tick).
+    pub fn set_now(&mut self, now_s: f64) {
+        self.now_s = now_s;
+    }
+
+    /// The runs started in this session.
+    pub fn runs(&self) -> usize {
+        self.runs
+    }
+
+    /// The folder of the latest run of the grid.
+    pub fn run_dir(&self) -> Option<&Path> {
+        self.run_dir.as_deref()
+    }
+
+    /// The shear field of design `id` as read from its run folder, if it was.
+    pub fn field(&self, id: &str) -> Option<&Result<StoredField, FieldError>> {
+        self.fields.get(id)
+    }
+
+    /// Keeps the field of design `id`, read elsewhere, as if read from its run folder.
+    pub fn keep_field(&mut self, id: String, field: StoredField) {
+        self.fields.insert(id, Ok(field));
     }
 
     pub fn running(&self) -> bool {
@@ -344,7 +426,7 @@ impl App {
 
     /// The selected design's shear field, as read when it was selected (drawing reads no
     /// files); `None` while the design has no map.
-    pub fn selected_field(&self) -> Option<&Result<StoredField, String>> {
+    pub fn selected_field(&self) -> Option<&Result<StoredField, FieldError>> {
         let id = self.selected_map_id()?;
         self.fields.get(id)
     }
@@ -370,8 +452,8 @@ impl App {
         }
         let dir = self.selected_entry().and_then(|e| e.dir.clone());
         let read = match dir.as_ref().or(self.run_dir.as_ref()) {
-            Some(dir) => StoredField::read(dir, &id).map_err(|e| e.to_string()),
-            None => Err("no run folder".into()),
+            Some(dir) => StoredField::read(dir, &id).map_err(FieldError::from),
+            None => Err(FieldError::NoRunFolder),
         };
         self.fields.insert(id, read);
     }
@@ -488,19 +570,18 @@ impl App {
             self.sort.column = self.sort.column.min(self.sort_columns() - 1);
         } else if self.only_the_limits_changed() {
             // The limits change verdicts, not figures: judge the rows again, run nothing.
-            let fabric = &self.params.plan.base_scene.fabric;
-            let limits = [fabric.locking_angle_deg, fabric.break_tension_n];
-            let old = &self.table_plan.base_scene.fabric;
+            let limits = Limits::of(&self.params.plan.base_scene);
+            let old = Limits::of(&self.table_plan.base_scene);
             let words = [
-                (old.locking_angle_deg != limits[0])
-                    .then(|| format!("the locking angle of {}°", limits[0])),
-                (old.break_tension_n != limits[1])
-                    .then(|| format!("the break tension of {} N", limits[1])),
+                (old.locking_angle_deg != limits.locking_angle_deg)
+                    .then(|| format!("the locking angle of {}°", limits.locking_angle_deg)),
+                (old.break_tension_n != limits.break_tension_n)
+                    .then(|| format!("the break tension of {} N", limits.break_tension_n)),
             ];
             for e in &mut self.entries {
                 e.limits = limits;
                 if let Some(row) = e.row.as_mut() {
-                    rejudge(row, e.limits);
+                    row.rejudge(limits);
                 }
             }
             self.table_plan = self.params.plan.clone();
@@ -556,36 +637,4 @@ impl App {
             .find(|p| !taken(p))
             .expect("some folder is free")
     }
-}
-
-/// The verdict of a converged, sound row against the limits `[locking °, break N]`: the
-/// figures and their errors stay, the verdict and `feasible` follow the new limits. Rows
-/// without an answer (failed, invalid, not sound) keep theirs.
-pub(super) fn rejudge(row: &mut Row, limits: [f64; 2]) {
-    use crate::verdict::{Facts, Verdict};
-    let answered = matches!(
-        row.verdict,
-        Verdict::Feasible | Verdict::Marginal | Verdict::Infeasible
-    );
-    let (Some(shear), Some(tension)) = (row.max_shear_deg, row.max_tension_n) else {
-        return;
-    };
-    if !answered {
-        return;
-    }
-    let facts = Facts {
-        converged: true,
-        no_answer: false,
-        unsound: &[],
-        max_shear_deg: shear,
-        max_tension_n: tension,
-        locking_angle_deg: limits[0],
-        break_tension_n: limits[1],
-        max_shear_err_deg: row.max_shear_err_deg.unwrap_or(0.0),
-        max_tension_err_pct: row.max_tension_err_pct.unwrap_or(0.0),
-        stroke_reached_mm: 1.0,
-        stroke_mm: 1.0,
-    };
-    row.verdict = Verdict::judge(&facts);
-    row.feasible = row.verdict == Verdict::Feasible;
 }

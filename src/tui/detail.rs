@@ -12,8 +12,9 @@ use crate::study::sweep::StoredField;
 
 use super::app::{App, Entry};
 use super::shear_map::{ShearMap, colour, shade};
-use super::view::{Styles, verdict_cell};
+use super::style::{Styles, verdict_cell};
 use crate::accuracy::Accuracy;
+use crate::verdict::Limits;
 
 /// The colour bar: the scale from 0 to `top` in `unit`, the limit marked when it lies on it.
 fn scale_line<'a>(
@@ -132,7 +133,10 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
         lines.push(Line::styled(why, st.dim()));
         return lines;
     };
-    let [locking, breaking] = entry.limits;
+    let Limits {
+        locking_angle_deg: locking,
+        break_tension_n: breaking,
+    } = entry.limits;
     let accuracy = entry.accuracy.unwrap_or_else(|| {
         Accuracy::of_element_size(app.table_plan.base_scene.mesh.element_size)
             .unwrap_or(app.params.accuracy)

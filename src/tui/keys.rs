@@ -28,74 +28,8 @@ impl App {
                 self.mode = Mode::Normal;
                 Command::None
             }
-            Mode::Editing { mut buffer, .. } => {
-                match key.code {
-                    KeyCode::Esc => {
-                        self.mode = Mode::Normal;
-                        return Command::None;
-                    }
-                    KeyCode::Enter => {
-                        match self.params.commit(self.cursor, &buffer) {
-                            Ok(()) => {
-                                self.mode = Mode::Normal;
-                                self.follow_edits();
-                            }
-                            Err(e) => {
-                                self.mode = Mode::Editing {
-                                    buffer,
-                                    error: Some(e),
-                                }
-                            }
-                        }
-                        return Command::None;
-                    }
-                    KeyCode::Backspace => {
-                        buffer.pop();
-                    }
-                    KeyCode::Char(c) => buffer.push(c),
-                    _ => return Command::None,
-                }
-                let error = self.params.check(self.cursor, &buffer).err();
-                self.mode = Mode::Editing { buffer, error };
-                Command::None
-            }
-            Mode::Exporting { mut buffer } => {
-                match key.code {
-                    KeyCode::Esc => self.mode = Mode::Normal,
-                    KeyCode::Enter => {
-                        self.mode = Mode::Normal;
-                        let to = PathBuf::from(buffer.trim());
-                        if buffer.trim().is_empty() {
-                            self.status = "export: expected a folder".into();
-                            return Command::None;
-                        }
-                        if to.join("results.csv").exists() {
-                            self.status = format!(
-                                "export: {} already holds results; choose another folder",
-                                to.display()
-                            );
-                            return Command::None;
-                        }
-                        let from = self.row_dirs();
-                        if from.is_empty() {
-                            return Command::None;
-                        }
-                        self.export_dir = to.clone();
-                        self.status = format!("exporting to {} …", to.display());
-                        return Command::Export { from, to };
-                    }
-                    KeyCode::Backspace => {
-                        buffer.pop();
-                        self.mode = Mode::Exporting { buffer };
-                    }
-                    KeyCode::Char(c) => {
-                        buffer.push(c);
-                        self.mode = Mode::Exporting { buffer };
-                    }
-                    _ => {}
-                }
-                Command::None
-            }
+            Mode::Editing { buffer, .. } => self.on_editing_key(key, buffer),
+            Mode::Exporting { buffer } => self.on_exporting_key(key, buffer),
             Mode::Detail => {
                 match key.code {
                     KeyCode::Char('q') => return Command::Quit,
@@ -111,6 +45,83 @@ impl App {
             }
             Mode::Normal => self.on_normal_key(key),
         }
+    }
+
+    /// A key while a parameter is edited: the text typed so far is `buffer`.
+    fn on_editing_key(&mut self, key: KeyEvent, mut buffer: String) -> Command {
+        match key.code {
+            KeyCode::Esc => {
+                self.mode = Mode::Normal;
+                return Command::None;
+            }
+            KeyCode::Enter => {
+                match self.params.commit(self.cursor, &buffer) {
+                    Ok(()) => {
+                        self.mode = Mode::Normal;
+                        self.follow_edits();
+                    }
+                    Err(e) => {
+                        self.mode = Mode::Editing {
+                            buffer,
+                            error: Some(e),
+                        }
+                    }
+                }
+                return Command::None;
+            }
+            KeyCode::Backspace => {
+                buffer.pop();
+            }
+            KeyCode::Char(c) => buffer.push(c),
+            _ => return Command::None,
+        }
+        let error = self.params.check(self.cursor, &buffer).err();
+        self.mode = Mode::Editing { buffer, error };
+        Command::None
+    }
+
+    /// A key while the export folder is asked for: the text typed so far is `buffer`.
+    fn on_exporting_key(&mut self, key: KeyEvent, mut buffer: String) -> Command {
+        match key.code {
+            KeyCode::Esc => self.mode = Mode::Normal,
+            KeyCode::Enter => {
+                self.mode = Mode::Normal;
+                return self.export_to(&buffer);
+            }
+            KeyCode::Backspace => {
+                buffer.pop();
+                self.mode = Mode::Exporting { buffer };
+            }
+            KeyCode::Char(c) => {
+                buffer.push(c);
+                self.mode = Mode::Exporting { buffer };
+            }
+            _ => {}
+        }
+        Command::None
+    }
+
+    /// The export into the folder typed, unless it is empty or holds results already.
+    fn export_to(&mut self, typed: &str) -> Command {
+        let to = PathBuf::from(typed.trim());
+        if typed.trim().is_empty() {
+            self.status = "export: expected a folder".into();
+            return Command::None;
+        }
+        if to.join("results.csv").exists() {
+            self.status = format!(
+                "export: {} already holds results; choose another folder",
+                to.display()
+            );
+            return Command::None;
+        }
+        let from = self.row_dirs();
+        if from.is_empty() {
+            return Command::None;
+        }
+        self.export_dir = to.clone();
+        self.status = format!("exporting to {} …", to.display());
+        Command::Export { from, to }
     }
 
     fn on_normal_key(&mut self, key: KeyEvent) -> Command {

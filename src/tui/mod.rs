@@ -8,10 +8,12 @@
 
 pub mod app;
 mod detail;
+pub mod error;
 mod keys;
 pub mod params;
 mod runs;
 pub mod shear_map;
+mod style;
 pub mod view;
 pub mod worker;
 
@@ -31,6 +33,7 @@ use ratatui::crossterm::terminal::{
 };
 
 use app::{App, Command};
+use error::TuiError;
 use params::{Parameters, Source};
 
 /// Whether the terminal shows colours: not with `NO_COLOR` set or `TERM=dumb`.
@@ -40,15 +43,16 @@ pub fn colour_wanted() -> bool {
 }
 
 /// The sweep document of a sweep file.
-pub fn source_of_file(path: &std::path::Path) -> Result<Source, String> {
-    let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES)
-        .map_err(|e| format!("{}: cannot read the sweep file: {e}", path.display()))?;
-    let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-        format!(
-            "{}: not valid TOML: {}",
-            path.display(),
-            e.to_string().trim_end()
-        )
+pub fn source_of_file(path: &std::path::Path) -> Result<Source, TuiError> {
+    let text = crate::files::read_text(path, crate::files::MAX_TEXT_BYTES).map_err(|source| {
+        TuiError::Read {
+            path: path.to_path_buf(),
+            source,
+        }
+    })?;
+    let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| TuiError::Toml {
+        path: path.to_path_buf(),
+        message: e.to_string().trim_end().to_string(),
     })?;
     Ok(Source {
         path: path.to_path_buf(),
@@ -78,18 +82,18 @@ fn install_panic_hook() {
 
 /// Opens the explorer on a sweep document and runs it until the user quits. The runs are
 /// written under `session` (a folder per run), so that nothing is lost on a crash.
-pub fn explore(params: Parameters, session: PathBuf) -> Result<(), String> {
+pub fn explore(params: Parameters, session: PathBuf) -> Result<(), TuiError> {
     let mut app = App::new(params, session.clone(), colour_wanted());
     app.export_dir =
         export_home(&std::env::current_dir().unwrap_or_default()).join(&app.export_dir);
-    enable_raw_mode().map_err(|e| format!("cannot take the terminal: {e}"))?;
+    enable_raw_mode().map_err(TuiError::Terminal)?;
     if let Err(e) = execute!(io::stdout(), EnterAlternateScreen) {
         restore();
-        return Err(format!("cannot take the terminal: {e}"));
+        return Err(TuiError::Terminal(e));
     }
     install_panic_hook();
     let outcome = Terminal::new(CrosstermBackend::new(io::stdout()))
-        .map_err(|e| format!("cannot draw on the terminal: {e}"))
+        .map_err(TuiError::Draw)
         .and_then(|mut terminal| event_loop(&mut terminal, &mut app));
     restore();
     if app.runs > 0 {
@@ -114,7 +118,7 @@ pub fn explore(params: Parameters, session: PathBuf) -> Result<(), String> {
 fn event_loop(
     terminal: &mut Terminal<CrosstermBackend<Stdout>>,
     app: &mut App,
-) -> Result<(), String> {
+) -> Result<(), TuiError> {
     let opened = Instant::now();
     let (tx, rx) = mpsc::channel();
     let mut stop: Option<Arc<AtomicBool>> = None;
@@ -126,11 +130,11 @@ fn event_loop(
         }
         terminal
             .draw(|f| f.render_widget(&*app, f.area()))
-            .map_err(|e| format!("cannot draw on the terminal: {e}"))?;
-        if !event::poll(Duration::from_millis(100)).map_err(|e| e.to_string())? {
+            .map_err(TuiError::Draw)?;
+        if !event::poll(Duration::from_millis(100)).map_err(TuiError::Events)? {
             continue;
         }
-        let Event::Key(key) = event::read().map_err(|e| e.to_string())? else {
+        let Event::Key(key) = event::read().map_err(TuiError::Events)? else {
             continue;
         };
         if key.kind != KeyEventKind::Press {

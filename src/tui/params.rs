@@ -8,6 +8,9 @@ use crate::accuracy::Accuracy;
 use crate::presets;
 use crate::scene::{Override, Scene};
 use crate::study::sweep::{Plan, show_value, unit_of};
+use crate::verdict::Limits;
+
+use super::error::ParamError;
 
 /// At most this many designs are run from the explorer (the headless sweep takes more).
 pub const MAX_DESIGNS: usize = 2000;
@@ -26,14 +29,17 @@ pub struct Source {
 }
 
 impl Source {
-    /// The plan of `doc` (this source's document, edited) with `sets`.
-    fn plan(&self, doc: &toml::Table, sets: &[String]) -> Result<Plan, String> {
+    /// The plan of `doc` (this source's document, edited) with `overrides` over its base
+    /// scene. A plan keeps its overrides as `--set` text (its `sweep.lock` and `results.json`
+    /// record them): the text of each is made here, once, from its typed value.
+    fn plan(&self, doc: &toml::Table, overrides: &[Override]) -> Result<Plan, ParamError> {
+        let sets: Vec<String> = overrides.iter().map(|o| o.text.clone()).collect();
         let plan = if self.embedded {
-            crate::study::sweep::embedded::plan(&self.path, doc, sets)
+            crate::study::sweep::embedded::plan(&self.path, doc, &sets)
         } else {
-            Plan::from_document(&self.path, doc, sets)
+            Plan::from_document(&self.path, doc, &sets)
         };
-        plan.map_err(|e| e.to_string())
+        plan.map_err(|e| ParamError::Plan(e.to_string()))
     }
 }
 
@@ -79,15 +85,15 @@ pub struct Field {
 pub struct Parameters {
     pub source: Source,
     pub fields: Vec<Field>,
-    pub locking_angle_deg: f64,
-    pub break_tension_n: f64,
+    /// The locking angle and the break tension set over the base scene.
+    pub limits: Limits,
     pub accuracy: Accuracy,
     /// The plan of the committed fields.
     pub plan: Plan,
 }
 
 /// `start..stop/count` → the values, both ends included.
-fn range_values(text: &str) -> Option<Result<Vec<f64>, String>> {
+fn range_values(text: &str) -> Option<Result<Vec<f64>, ParamError>> {
     let (span, count) = text.split_once('/')?;
     let (a, b) = span.split_once("..")?;
     let parse = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite());
@@ -102,39 +108,46 @@ fn range_values(text: &str) -> Option<Result<Vec<f64>, String>> {
                 format!("{v:.10e}").parse().unwrap_or(v)
             })
             .collect()),
-        _ => Err(format!(
+        _ => Err(ParamError::Text(format!(
             "{text:?}: a range is start..stop/count, e.g. 5..10/3 (count 1 to {MAX_DESIGNS})"
-        )),
+        ))),
     })
 }
 
 /// Reads a list of values typed by the user: `5, 7.5, 10`, or a range `5..10/3`.
-pub fn parse_list(text: &str, base: &toml::Value) -> Result<Vec<toml::Value>, String> {
+pub fn parse_list(text: &str, base: &toml::Value) -> Result<Vec<toml::Value>, ParamError> {
     let t = text.trim();
     if t.is_empty() {
-        return Err("empty: expected one value or more, e.g. 5, 7.5, 10 or 5..10/3".into());
+        return Err(ParamError::Text(
+            "empty: expected one value or more, e.g. 5, 7.5, 10 or 5..10/3".into(),
+        ));
     }
     if let Some(range) = range_values(t) {
         return range.map(|v| v.into_iter().map(toml::Value::Float).collect());
     }
     let doc: toml::Table = format!("v = [{t}]").parse().map_err(|_| {
-        format!("{t:?}: expected values separated by commas, e.g. 5, 7.5, 10 or 5..10/3")
+        ParamError::Text(format!(
+            "{t:?}: expected values separated by commas, e.g. 5, 7.5, 10 or 5..10/3"
+        ))
     })?;
     let Some(toml::Value::Array(values)) = doc.get("v") else {
-        return Err(format!("{t:?}: expected a list of values"));
+        return Err(ParamError::Text(format!(
+            "{t:?}: expected a list of values"
+        )));
     };
     let numeric = matches!(base, toml::Value::Float(_) | toml::Value::Integer(_));
+    let wrong = |message: String| Err(ParamError::Text(message));
     values
         .iter()
         .map(|v| match (v, base) {
             (toml::Value::Integer(i), toml::Value::Float(_)) => Ok(toml::Value::Float(*i as f64)),
             (toml::Value::Float(f), _) if !f.is_finite() => {
-                Err(format!("{f}: expected a finite number"))
+                wrong(format!("{f}: expected a finite number"))
             }
             (toml::Value::Float(_) | toml::Value::Integer(_), _) if numeric => Ok(v.clone()),
-            _ if numeric => Err(format!("{}: expected a number", show_value(v))),
+            _ if numeric => wrong(format!("{}: expected a number", show_value(v))),
             _ if std::mem::discriminant(v) == std::mem::discriminant(base) => Ok(v.clone()),
-            _ => Err(format!(
+            _ => wrong(format!(
                 "{}: expected a value like {}",
                 show_value(v),
                 show_value(base)
@@ -143,16 +156,29 @@ pub fn parse_list(text: &str, base: &toml::Value) -> Result<Vec<toml::Value>, St
         .collect()
 }
 
-/// The scene key of the yarns' break tension.
+/// The scene keys of the fabric's locking angle and of the yarns' break tension.
+const LOCKING_KEY: &str = "fabric.locking_angle_deg";
 const BREAK_KEY: &str = "fabric.break_tension_n";
+/// The scene key an accuracy level sets (as [`Accuracy::overrides`] does).
+const MESH_KEY: &str = "mesh.element_size";
+
+/// A number set over the base scene at `key`, held as its TOML value; its text is the
+/// `--set` a user would write (`fabric.locking_angle_deg=60.0`).
+fn number_override(key: &str, value: f64) -> Override {
+    Override {
+        key: key.to_string(),
+        value: toml::Value::Float(value),
+        text: format!("{key}={value:?}"),
+    }
+}
 
 /// A limit typed by the user: a finite number, or what was expected.
-fn limit_value(text: &str, expected: &str) -> Result<f64, String> {
+fn limit_value(text: &str, expected: &str) -> Result<f64, ParamError> {
     text.trim()
         .parse()
         .ok()
         .filter(|v: &f64| v.is_finite())
-        .ok_or_else(|| format!("{:?}: expected {expected}", text.trim()))
+        .ok_or_else(|| ParamError::Text(format!("{:?}: expected {expected}", text.trim())))
 }
 
 fn list_text(values: &[toml::Value]) -> String {
@@ -162,10 +188,9 @@ fn list_text(values: &[toml::Value]) -> String {
 impl Parameters {
     /// The parameters of a sweep document: its axes, and the scene's other sweepable keys at
     /// their base values.
-    pub fn new(source: Source) -> Result<Parameters, String> {
+    pub fn new(source: Source) -> Result<Parameters, ParamError> {
         let plan = source.plan(&source.doc, &[])?;
-        let locking_angle_deg = plan.base_scene.fabric.locking_angle_deg;
-        let break_tension_n = plan.base_scene.fabric.break_tension_n;
+        let limits = Limits::of(&plan.base_scene);
         let h = plan.base_scene.mesh.element_size;
         // The level nearest the scene's own mesh.
         let accuracy = Accuracy::ALL
@@ -207,7 +232,7 @@ impl Parameters {
             target: Target::LockingAngle,
             label: "locking".into(),
             unit: "°",
-            text: show_value(&toml::Value::Float(locking_angle_deg)),
+            text: show_value(&toml::Value::Float(limits.locking_angle_deg)),
         });
         // The break tension is a limit, like the locking angle, unless the sweep varies it.
         if !plan.axes.iter().any(|a| a.key == BREAK_KEY) {
@@ -215,7 +240,7 @@ impl Parameters {
                 target: Target::BreakTension,
                 label: "break".into(),
                 unit: "N",
-                text: show_value(&toml::Value::Float(break_tension_n)),
+                text: show_value(&toml::Value::Float(limits.break_tension_n)),
             });
         }
         fields.push(Field {
@@ -227,8 +252,7 @@ impl Parameters {
         let mut p = Parameters {
             source,
             fields,
-            locking_angle_deg,
-            break_tension_n,
+            limits,
             accuracy,
             plan,
         };
@@ -236,21 +260,19 @@ impl Parameters {
         Ok(p)
     }
 
-    /// The `--set` overrides of the locking angle and the accuracy level.
-    fn sets(&self) -> Vec<String> {
-        let mut sets = vec![format!(
-            "fabric.locking_angle_deg={:?}",
-            self.locking_angle_deg
-        )];
+    /// The overrides of the base scene, typed: the locking angle, the break tension (unless
+    /// swept) and the accuracy level's mesh.
+    fn overrides(&self) -> Vec<Override> {
+        let mut sets = vec![number_override(LOCKING_KEY, self.limits.locking_angle_deg)];
         if self.fields.iter().any(|f| f.target == Target::BreakTension) {
-            sets.push(format!("{BREAK_KEY}={:?}", self.break_tension_n));
+            sets.push(number_override(BREAK_KEY, self.limits.break_tension_n));
         }
-        sets.extend(self.accuracy.overrides());
+        sets.push(number_override(MESH_KEY, self.accuracy.element_size_mm()));
         sets
     }
 
     /// The plan of the committed fields.
-    fn build(&self) -> Result<Plan, String> {
+    fn build(&self) -> Result<Plan, ParamError> {
         let mut doc = self.source.doc.clone();
         let mut sweep = toml::Table::new();
         for f in &self.fields {
@@ -261,7 +283,7 @@ impl Parameters {
             }
         }
         doc.insert("sweep".into(), toml::Value::Table(sweep));
-        self.source.plan(&doc, &self.sets())
+        self.source.plan(&doc, &self.overrides())
     }
 
     /// The base scene's value of a key (what the typed values must look like).
@@ -274,8 +296,8 @@ impl Parameters {
 
     /// Whether the base scene with `key = value` over it keeps its bounds: the scene's
     /// message (which names the key) when it does not.
-    fn check_value(&self, key: &str, value: &toml::Value) -> Result<(), String> {
-        let mut sets: Vec<Override> = self.sets().iter().filter_map(|s| s.parse().ok()).collect();
+    fn check_value(&self, key: &str, value: &toml::Value) -> Result<(), ParamError> {
+        let mut sets = self.overrides();
         sets.push(Override {
             key: key.to_string(),
             value: value.clone(),
@@ -283,20 +305,20 @@ impl Parameters {
         });
         Scene::from_toml_str(&self.plan.base_text, &self.plan.base_origin, &sets)
             .map(|_| ())
-            .map_err(|e| e.detail)
+            .map_err(|e| ParamError::Scene(e.detail))
     }
 
     /// Checks the text typed into field `index` (as the user types): what is wrong with it,
     /// naming the value and what was expected.
-    pub fn check(&self, index: usize, text: &str) -> Result<(), String> {
+    pub fn check(&self, index: usize, text: &str) -> Result<(), ParamError> {
         let Some(field) = self.fields.get(index) else {
-            return Err("no such parameter".into());
+            return Err(ParamError::Text("no such parameter".into()));
         };
         match &field.target {
-            Target::Accuracy => Accuracy::parse(text).map(|_| ()),
+            Target::Accuracy => Accuracy::parse(text).map(|_| ()).map_err(ParamError::Text),
             Target::LockingAngle => {
                 let v = limit_value(text, "the locking angle in degrees, e.g. 60")?;
-                self.check_value("fabric.locking_angle_deg", &toml::Value::Float(v))
+                self.check_value(LOCKING_KEY, &toml::Value::Float(v))
             }
             Target::BreakTension => {
                 let v = limit_value(text, "the break tension in N, e.g. 1500")?;
@@ -321,9 +343,9 @@ impl Parameters {
                     .product();
                 let total = others.saturating_mul(values.len());
                 if total > MAX_DESIGNS {
-                    return Err(format!(
+                    return Err(ParamError::Text(format!(
                         "{total} designs: the explorer runs at most {MAX_DESIGNS}; use `wovenform sweep` for more"
-                    ));
+                    )));
                 }
                 Ok(())
             }
@@ -331,22 +353,22 @@ impl Parameters {
     }
 
     /// Commits the text of field `index` when it checks; the plan follows.
-    pub fn commit(&mut self, index: usize, text: &str) -> Result<(), String> {
+    pub fn commit(&mut self, index: usize, text: &str) -> Result<(), ParamError> {
         self.check(index, text)?;
         let old = self.clone();
         let field = &mut self.fields[index];
         match field.target {
             Target::Accuracy => {
-                self.accuracy = Accuracy::parse(text)?;
+                self.accuracy = Accuracy::parse(text).map_err(ParamError::Text)?;
                 field.text = self.accuracy.name().into();
             }
             Target::LockingAngle => {
-                self.locking_angle_deg = text.trim().parse().map_err(|_| "not a number")?;
-                field.text = show_value(&toml::Value::Float(self.locking_angle_deg));
+                self.limits.locking_angle_deg = limit_value(text, "a number")?;
+                field.text = show_value(&toml::Value::Float(self.limits.locking_angle_deg));
             }
             Target::BreakTension => {
-                self.break_tension_n = text.trim().parse().map_err(|_| "not a number")?;
-                field.text = show_value(&toml::Value::Float(self.break_tension_n));
+                self.limits.break_tension_n = limit_value(text, "a number")?;
+                field.text = show_value(&toml::Value::Float(self.limits.break_tension_n));
             }
             Target::Axis { ref key, .. } => {
                 let base = old.base_value(key);
@@ -407,17 +429,25 @@ mod tests {
         assert!(
             parse_list("5..10/0", &f)
                 .unwrap_err()
+                .to_string()
                 .contains("start..stop/count")
         );
         assert!(
             parse_list("5, x", &f)
                 .unwrap_err()
+                .to_string()
                 .contains("separated by commas")
         );
-        assert!(parse_list("", &f).unwrap_err().contains("empty"));
+        assert!(
+            parse_list("", &f)
+                .unwrap_err()
+                .to_string()
+                .contains("empty")
+        );
         assert!(
             parse_list("true", &f)
                 .unwrap_err()
+                .to_string()
                 .contains("expected a number")
         );
     }
@@ -441,13 +471,19 @@ mod tests {
         );
         assert_eq!(p.plan.len(), 8);
         assert_eq!(p.fields[0].text, "5, 10");
-        let err = p.check(0, "-1").unwrap_err();
+        let err = p.check(0, "-1").unwrap_err().to_string();
         assert!(err.contains("tools.r"), "{err}");
         assert!(p.check(3, "0.1, 0.3").is_ok());
-        assert!(p.check(3, "1.5").unwrap_err().contains("process.friction"));
+        assert!(
+            p.check(3, "1.5")
+                .unwrap_err()
+                .to_string()
+                .contains("process.friction")
+        );
         assert!(
             p.check(7, "fast")
                 .unwrap_err()
+                .to_string()
                 .contains("coarse, standard or fine")
         );
     }
@@ -464,5 +500,30 @@ mod tests {
         assert_eq!(p.plan.base_scene.mesh.element_size, 5.0);
         assert!(p.commit(0, "-3").is_err());
         assert_eq!(p.fields[0].text, "5, 10");
+    }
+
+    #[test]
+    fn the_limits_go_to_the_plan_as_typed_values() {
+        let mut p = Parameters::new(default_source()).unwrap();
+        let locking = 0.1 + 0.2 + 55.0;
+        p.limits.locking_angle_deg = locking;
+        p.limits.break_tension_n = 1234.5;
+        let plan = p.build().unwrap();
+        assert_eq!(plan.base_scene.fabric.locking_angle_deg, locking);
+        assert_eq!(Limits::of(&plan.base_scene), p.limits);
+        // The plan records them as the --set a user would write.
+        assert_eq!(
+            plan.set,
+            [
+                format!("fabric.locking_angle_deg={locking:?}"),
+                "fabric.break_tension_n=1234.5".to_string(),
+                "mesh.element_size=2.5".to_string(),
+            ]
+        );
+        let o = &p.overrides()[0];
+        assert_eq!(
+            (o.key.as_str(), &o.value),
+            (LOCKING_KEY, &toml::Value::Float(locking))
+        );
     }
 }

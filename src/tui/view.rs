@@ -15,11 +15,12 @@ use ratatui::widgets::{
 };
 
 use crate::study::sweep::show_value;
-use crate::verdict::Verdict;
+use crate::verdict::Limits;
 
 use super::app::{App, Entry, Focus, Mode, RunState};
 use super::detail::render_detail;
 use super::params::Target;
+use super::style::{Styles, verdict_cell};
 
 /// Width from which the detail pane is shown beside the table.
 pub const WIDE: u16 = 130;
@@ -33,64 +34,6 @@ pub fn show_duration(s: f64) -> String {
         format!("{} min {:02} s", s / 60, s % 60)
     } else {
         format!("{} h {:02} min", s / 3600, (s % 3600) / 60)
-    }
-}
-
-pub(super) struct Styles {
-    pub(super) colour: bool,
-}
-
-impl Styles {
-    fn fg(&self, c: Color) -> Style {
-        if self.colour {
-            Style::default().fg(c)
-        } else {
-            Style::default()
-        }
-    }
-    pub(super) fn good(&self) -> Style {
-        self.fg(Color::Green)
-    }
-    pub(super) fn bad(&self) -> Style {
-        self.fg(Color::Red).add_modifier(Modifier::BOLD)
-    }
-    pub(super) fn warn(&self) -> Style {
-        self.fg(Color::Yellow)
-    }
-    pub(super) fn dim(&self) -> Style {
-        if self.colour {
-            Style::default().fg(Color::DarkGray)
-        } else {
-            Style::default()
-        }
-    }
-    pub(super) fn title(&self) -> Style {
-        Style::default().add_modifier(Modifier::BOLD)
-    }
-    fn selected(&self) -> Style {
-        if self.colour {
-            Style::default().bg(Color::Blue).fg(Color::White)
-        } else {
-            Style::default().add_modifier(Modifier::REVERSED)
-        }
-    }
-}
-
-/// The verdict in a word, its symbol and its style.
-pub(super) fn verdict_cell(entry: &Entry, app: &App, st: &Styles) -> (String, Style) {
-    let Some(r) = entry.row.as_ref() else {
-        return (if app.running() { "…" } else { "·" }.into(), st.dim());
-    };
-    let [locking, _] = entry.limits;
-    match r.verdict {
-        Verdict::Feasible => ("✓ feasible".into(), st.good()),
-        Verdict::Marginal => ("≈ marginal".into(), st.warn()),
-        Verdict::Infeasible => {
-            let shear = r.max_shear_deg.is_some_and(|s| s > locking);
-            (if shear { "✗ shear" } else { "✗ tension" }.into(), st.bad())
-        }
-        Verdict::Failed => ("! failed".into(), st.warn()),
-        Verdict::Invalid => ("- invalid".into(), st.dim()),
     }
 }
 
@@ -157,7 +100,7 @@ fn render_title(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
         p.plan.len(),
         p.accuracy,
         err.max_shear_deg,
-        show_value(&toml::Value::Float(p.locking_angle_deg)),
+        show_value(&toml::Value::Float(p.limits.locking_angle_deg)),
     );
     Paragraph::new(Line::styled(text, st.title())).render(area, buf);
 }
@@ -217,101 +160,115 @@ fn render_parameters(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
 }
 
 fn render_run(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
-    let mut lines: Vec<Line> = Vec::new();
-    let title;
-    if let Mode::Editing { error, .. } = &app.mode {
-        let f = &app.params.fields[app.cursor];
-        title = format!(" Editing {} ", f.label);
-        match error {
-            Some(e) => lines.push(Line::styled(format!("✗ {e}"), st.bad())),
-            None => lines.push(Line::styled(
-                "✓ valid: Enter keeps it, Esc drops it",
-                st.good(),
-            )),
-        }
-        let hint = match &f.target {
-            Target::Accuracy => "coarse (5 mm), standard (2.5 mm) or fine (1.25 mm)",
-            Target::LockingAngle => "the fabric's shear locking angle, °",
-            Target::BreakTension => "the yarns' break tension, N",
-            Target::Axis { key, .. } => axis_hint(key.as_str()),
-        };
-        lines.push(Line::styled(hint, st.dim()));
-    } else {
-        title = " Run ".into();
-        let (done, feasible) = app.counts();
-        let total = app.entries.len();
-        let state = match &app.run {
-            RunState::Idle => {
-                // A rough figure (the mesh and the stroke), one core a design.
-                let each = crate::study::estimate::run_seconds(&app.params.plan.base_scene);
-                Line::raw(format!(
-                    "ready: r runs {total} designs, about {} each",
-                    show_duration(each.max(1.0))
-                ))
-            }
-            RunState::Running => {
-                Line::raw(format!("running: {done}/{total} done, {feasible} feasible"))
-            }
-            RunState::Stopping => Line::styled("cancelling…", st.warn()),
-            RunState::Finished { wall_s } => Line::styled(
-                format!(
-                    "finished: {done}/{total} in {}, {feasible} feasible",
-                    show_duration(*wall_s)
-                ),
-                st.good(),
-            ),
-            RunState::Cancelled { wall_s } => Line::styled(
-                format!(
-                    "cancelled after {}: {done}/{total} kept (r resumes)",
-                    show_duration(*wall_s)
-                ),
-                st.warn(),
-            ),
-            RunState::Failed(e) => Line::styled(format!("failed: {e}"), st.bad()),
-        };
-        lines.push(state);
-        let sort = format!(
-            "sort: {} {} · {}",
-            app.sort_name(app.sort.column),
-            if app.sort.descending { "↓" } else { "↑" },
-            if app.feasible_only {
-                "feasible only"
-            } else {
-                "all designs"
-            }
-        );
-        lines.push(Line::styled(sort, st.dim()));
-        let fabric = &app.table_plan.base_scene.fabric;
-        lines.push(Line::styled(
-            format!(
-                "limits: shear {}°, tension {} N",
-                show_value(&toml::Value::Float(fabric.locking_angle_deg)),
-                show_value(&toml::Value::Float(fabric.break_tension_n))
-            ),
-            st.dim(),
-        ));
-        if app.edited() {
-            lines.push(Line::styled(
-                format!("edited: r runs the new {} designs", app.params.plan.len()),
-                st.warn(),
-            ));
-        }
-        let marginal = app.marginal_ids().len();
-        if marginal > 0 && !app.running() {
-            lines.push(Line::styled(
-                format!("≈ {marginal} marginal: m re-runs them one level finer"),
-                st.warn(),
-            ));
-        }
-        if let Some(status) = app.fresh_status() {
-            lines.push(Line::raw(status.to_string()));
-        }
-    }
+    let (title, lines) = match &app.mode {
+        Mode::Editing { error, .. } => editing_lines(app, error.as_ref(), st),
+        _ => (" Run ".to_string(), run_lines(app, st)),
+    };
     let block = Block::bordered().title(title).border_style(st.dim());
     Paragraph::new(lines)
         .wrap(Wrap { trim: true })
         .block(block)
         .render(area, buf);
+}
+
+/// The Run panel while a parameter is edited: its title, whether the text is valid, a hint.
+fn editing_lines<'a>(
+    app: &App,
+    error: Option<&super::error::ParamError>,
+    st: &Styles,
+) -> (String, Vec<Line<'a>>) {
+    let mut lines: Vec<Line> = Vec::new();
+    let f = &app.params.fields[app.cursor];
+    let title = format!(" Editing {} ", f.label);
+    match error {
+        Some(e) => lines.push(Line::styled(format!("✗ {e}"), st.bad())),
+        None => lines.push(Line::styled(
+            "✓ valid: Enter keeps it, Esc drops it",
+            st.good(),
+        )),
+    }
+    let hint = match &f.target {
+        Target::Accuracy => "coarse (5 mm), standard (2.5 mm) or fine (1.25 mm)",
+        Target::LockingAngle => "the fabric's shear locking angle, °",
+        Target::BreakTension => "the yarns' break tension, N",
+        Target::Axis { key, .. } => axis_hint(key.as_str()),
+    };
+    lines.push(Line::styled(hint, st.dim()));
+    (title, lines)
+}
+
+/// The Run panel: where the run is, the sort, the limits, what was edited, the status.
+fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
+    let mut lines: Vec<Line> = Vec::new();
+    let (done, feasible) = app.counts();
+    let total = app.entries.len();
+    let state = match &app.run {
+        RunState::Idle => {
+            // A rough figure (the mesh and the stroke), one core a design.
+            let each = crate::study::estimate::run_seconds(&app.params.plan.base_scene);
+            Line::raw(format!(
+                "ready: r runs {total} designs, about {} each",
+                show_duration(each.max(1.0))
+            ))
+        }
+        RunState::Running => {
+            Line::raw(format!("running: {done}/{total} done, {feasible} feasible"))
+        }
+        RunState::Stopping => Line::styled("cancelling…", st.warn()),
+        RunState::Finished { wall_s } => Line::styled(
+            format!(
+                "finished: {done}/{total} in {}, {feasible} feasible",
+                show_duration(*wall_s)
+            ),
+            st.good(),
+        ),
+        RunState::Cancelled { wall_s } => Line::styled(
+            format!(
+                "cancelled after {}: {done}/{total} kept (r resumes)",
+                show_duration(*wall_s)
+            ),
+            st.warn(),
+        ),
+        RunState::Failed(e) => Line::styled(format!("failed: {e}"), st.bad()),
+    };
+    lines.push(state);
+    let sort = format!(
+        "sort: {} {} · {}",
+        app.sort_name(app.sort.column),
+        if app.sort.descending { "↓" } else { "↑" },
+        if app.feasible_only {
+            "feasible only"
+        } else {
+            "all designs"
+        }
+    );
+    lines.push(Line::styled(sort, st.dim()));
+    let limits = Limits::of(&app.table_plan.base_scene);
+    lines.push(Line::styled(
+        format!(
+            "limits: shear {}°, tension {} N",
+            show_value(&toml::Value::Float(limits.locking_angle_deg)),
+            show_value(&toml::Value::Float(limits.break_tension_n))
+        ),
+        st.dim(),
+    ));
+    if app.edited() {
+        lines.push(Line::styled(
+            format!("edited: r runs the new {} designs", app.params.plan.len()),
+            st.warn(),
+        ));
+    }
+    let marginal = app.marginal_ids().len();
+    if marginal > 0 && !app.running() {
+        lines.push(Line::styled(
+            format!("≈ {marginal} marginal: m re-runs them one level finer"),
+            st.warn(),
+        ));
+    }
+    if let Some(status) = app.fresh_status() {
+        lines.push(Line::raw(status.to_string()));
+    }
+    lines
 }
 
 fn render_table(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
@@ -473,7 +430,10 @@ fn fit_value(v: &toml::Value, width: usize) -> String {
 
 /// One design's row: its values, figures (over a limit in red), verdict, run time and error.
 fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
-    let [locking, breaking] = e.limits;
+    let Limits {
+        locking_angle_deg: locking,
+        break_tension_n: breaking,
+    } = e.limits;
     let r = e.row.as_ref();
     let err = r
         .and_then(|r| r.max_shear_err_deg)

@@ -10,6 +10,8 @@ use std::thread;
 
 use crate::study::sweep::{self, Plan, Progress, Row};
 
+use super::error::WorkError;
+
 /// What the workers tell the interface.
 #[derive(Debug)]
 pub enum Message {
@@ -24,11 +26,11 @@ pub enum Message {
         error: Option<String>,
     },
     /// An export ended: the files written, or why not.
-    Exported(Result<Vec<PathBuf>, String>),
+    Exported(Result<Vec<PathBuf>, WorkError>),
     /// A design's own files (maps, VTU, summary) are written, or why not.
     Written {
         design: String,
-        result: Result<Vec<PathBuf>, String>,
+        result: Result<Vec<PathBuf>, WorkError>,
     },
 }
 
@@ -86,12 +88,16 @@ pub fn start_export(from: Vec<PathBuf>, to: PathBuf, tx: Sender<Message>) {
     thread::Builder::new()
         .name("explorer-export".into())
         .spawn(move || {
-            let one = |from: &PathBuf, to: &PathBuf| -> Result<Vec<PathBuf>, String> {
-                let (plan, outcome) =
-                    sweep::merge(std::slice::from_ref(from), to).map_err(|e| e.to_string())?;
-                let pool = sweep::pool(None).map_err(|e| e.to_string())?;
-                crate::publish::sweep_report(&plan, to, &outcome.rows, None, &pool)
-                    .map_err(|e| e.to_string())
+            let one = |from: &PathBuf, to: &PathBuf| -> Result<Vec<PathBuf>, WorkError> {
+                let (plan, outcome) = sweep::merge(std::slice::from_ref(from), to)?;
+                let pool = sweep::pool(None)?;
+                Ok(crate::publish::sweep_report(
+                    &plan,
+                    to,
+                    &outcome.rows,
+                    None,
+                    &pool,
+                )?)
             };
             let mut written = Vec::new();
             let mut result = Ok(());
@@ -130,7 +136,7 @@ pub fn start_design_files(
             let wall_s = start.elapsed().as_secs_f64();
             let mut summary = crate::summary::RunSummary::new(&design, &scene, &result, wall_s);
             let written = crate::publish::write_run(&dir, &mut summary, &result, &problem.tooling)
-                .map_err(|e| e.to_string());
+                .map_err(WorkError::from);
             let _ = tx.send(Message::Written {
                 design,
                 result: written,

@@ -4,7 +4,7 @@
 use crate::tui_common;
 
 use std::collections::HashSet;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use ratatui::crossterm::event::KeyCode;
 use tui_common::*;
@@ -14,7 +14,7 @@ use wovenform::tui::params::{Parameters, default_source};
 use wovenform::tui::worker::Message;
 
 fn verdict(app: &App, i: usize) -> String {
-    app.entries[i]
+    app.entries()[i]
         .row
         .as_ref()
         .map(|r| r.verdict.word().to_string())
@@ -23,15 +23,14 @@ fn verdict(app: &App, i: usize) -> String {
 
 /// Edits the parameter on line `line` of the panel to `text`.
 fn edit(app: &mut App, line: usize, text: &str) {
-    app.focus = Focus::Parameters;
-    app.cursor = line;
+    app.select_parameter(line);
     app.on_key(key(KeyCode::Enter));
     for _ in 0..12 {
         app.on_key(key(KeyCode::Backspace));
     }
     type_text(app, text);
     app.on_key(key(KeyCode::Enter));
-    app.focus = Focus::Results;
+    app.set_focus(Focus::Results);
 }
 
 #[test]
@@ -41,7 +40,7 @@ fn a_new_break_tension_judges_the_rows_again_without_running() {
     // Design 7: 58.0° and 297 N ± 35 % at standard, so its tension lies in 193 … 401 N.
     assert_eq!(verdict(&app, 7), "FEASIBLE");
     let line = app
-        .params
+        .params()
         .fields
         .iter()
         .position(|f| f.label == "break")
@@ -53,25 +52,38 @@ fn a_new_break_tension_judges_the_rows_again_without_running() {
         "MARGINAL",
         "350 N lies inside 193 … 401 N"
     );
-    assert_eq!(app.entries[7].limits, [60.0, 350.0]);
+    assert_eq!(
+        app.entries()[7].limits,
+        wovenform::verdict::Limits {
+            locking_angle_deg: 60.0,
+            break_tension_n: 350.0
+        }
+    );
     assert!(
-        app.status.contains("the break tension of 350 N"),
+        app.status().contains("the break tension of 350 N"),
         "{}",
-        app.status
+        app.status()
     );
     edit(&mut app, line, "150");
     assert_eq!(verdict(&app, 7), "INFEASIBLE", "150 N is under 193 N");
     assert!(screen(&app, 120, 30).contains("✗ tension"));
     // Nothing ran: r would resume the same folder, no design to run.
-    assert_eq!(app.runs, 1);
+    assert_eq!(app.runs(), 1);
     // A bad value is refused with what was expected.
     assert!(
-        app.params
+        app.params()
             .check(line, "-5")
             .unwrap_err()
+            .to_string()
             .contains("break_tension_n")
     );
-    assert!(app.params.check(line, "lots").unwrap_err().contains("in N"));
+    assert!(
+        app.params()
+            .check(line, "lots")
+            .unwrap_err()
+            .to_string()
+            .contains("in N")
+    );
 }
 
 #[test]
@@ -79,14 +91,14 @@ fn t_shows_the_yarn_tension_map_scaled_to_the_field() {
     let mut app = explorer(false);
     finished_run(&mut app);
     app.on_key(key(KeyCode::Enter));
-    assert_eq!(app.mode, Mode::Detail);
+    assert_eq!(*app.mode(), Mode::Detail);
     let s = screen(&app, 100, 40);
     assert!(s.contains("shear, cell peak 78.0°"), "{s}");
     assert!(s.contains("60° locking"), "{s}");
     // The figures beside the map: the field's draw-in and share over the locking angle.
     assert!(s.contains("draw-in 12.5 mm"), "{s}");
     app.on_key(key(KeyCode::Char('t')));
-    assert_eq!(app.mode, Mode::Detail, "t keeps the detail open");
+    assert_eq!(*app.mode(), Mode::Detail, "t keeps the detail open");
     let s = screen(&app, 100, 40);
     // corner_field's tension is 6 N per degree of shear: its peak 6 × 78 = 468 N.
     assert!(
@@ -107,7 +119,7 @@ fn plus_re_runs_the_selected_design_one_level_finer_in_its_own_folder() {
     finished_run(&mut app);
     app.on_key(key(KeyCode::End));
     app.on_key(key(KeyCode::Enter));
-    let id7 = app.entries[7].design.id.clone();
+    let id7 = app.entries()[7].design.id.clone();
     match app.on_key(key(KeyCode::Char('+'))) {
         Command::Start {
             plan,
@@ -126,9 +138,9 @@ fn plus_re_runs_the_selected_design_one_level_finer_in_its_own_folder() {
         other => panic!("expected a start, got {other:?}"),
     }
     // The parameters' level and the table's grid stay; only design 7 waits.
-    assert_eq!(app.params.accuracy, Accuracy::Standard);
-    assert_eq!(app.run_dir, Some(PathBuf::from("/session/run-1")));
-    assert!(app.entries[7].row.is_none() && app.entries[0].row.is_some());
+    assert_eq!(app.params().accuracy, Accuracy::Standard);
+    assert_eq!(app.run_dir(), Some(Path::new("/session/run-1")));
+    assert!(app.entries()[7].row.is_none() && app.entries()[0].row.is_some());
     // Its finer row arrives, with the fine level's error.
     let mut r = row(&app, 7, (58.3, 301.0, 6490.0, 9.0));
     r.max_shear_err_deg = Some(Accuracy::Fine.error().max_shear_deg);
@@ -138,8 +150,8 @@ fn plus_re_runs_the_selected_design_one_level_finer_in_its_own_folder() {
         wall_s: 9.0,
         error: None,
     });
-    assert_eq!(app.entries[7].accuracy, Some(Accuracy::Fine));
-    assert_eq!(app.entries[7].dir, Some(PathBuf::from("/session/run-2")));
+    assert_eq!(app.entries()[7].accuracy, Some(Accuracy::Fine));
+    assert_eq!(app.entries()[7].dir, Some(PathBuf::from("/session/run-2")));
     let s = screen(&app, 100, 40);
     assert!(
         s.contains("run time 9.0 s at fine (1.25 mm elements)"),
@@ -148,7 +160,7 @@ fn plus_re_runs_the_selected_design_one_level_finer_in_its_own_folder() {
     assert!(s.contains("±0.6°"), "{s}");
     // Fine is the finest level.
     assert_eq!(app.on_key(key(KeyCode::Char('+'))), Command::None);
-    assert!(app.status.contains("at fine already"), "{}", app.status);
+    assert!(app.status().contains("at fine already"), "{}", app.status());
     // An export writes both folders: the grid's, and the finer run's beside it.
     assert_eq!(
         app.row_dirs(),
@@ -170,7 +182,7 @@ fn w_asks_for_the_designs_own_files_at_its_level_and_shows_where_they_went() {
     let mut app = explorer(false);
     finished_run(&mut app);
     app.on_key(key(KeyCode::End));
-    let id7 = app.entries[7].design.id.clone();
+    let id7 = app.entries()[7].design.id.clone();
     let (scene, dir) = match app.on_key(key(KeyCode::Char('w'))) {
         Command::WriteFiles { design, scene, dir } => {
             assert_eq!(design, id7);
@@ -241,12 +253,12 @@ fn a_field_that_could_not_be_read_is_read_again_later() {
     let params = Parameters::new(default_source()).unwrap();
     let mut app = App::new(params, session.path().to_path_buf(), false);
     app.on_key(key(KeyCode::Char('r')));
-    let id0 = app.entries[0].design.id.clone();
+    let id0 = app.entries()[0].design.id.clone();
     let r = row(&app, 0, FIGURES[0]);
     app.on_message(Message::Row(Box::new(r)));
     // Its file is not there yet (a resumed run renames it when its workers start).
-    assert!(matches!(app.fields.get(&id0), Some(Err(_))));
-    let run = app.run_dir.clone().unwrap();
+    assert!(matches!(app.field(&id0), Some(Err(_))));
+    let run = app.run_dir().map(std::path::Path::to_path_buf).unwrap();
     std::fs::create_dir_all(run.join("fields")).unwrap();
     let field = corner_field(&id0, 78.0, 60.0);
     std::fs::write(
@@ -256,7 +268,7 @@ fn a_field_that_could_not_be_read_is_read_again_later() {
     .unwrap();
     app.on_key(key(KeyCode::Down));
     app.on_key(key(KeyCode::Up));
-    assert!(matches!(app.fields.get(&id0), Some(Ok(_))));
+    assert!(matches!(app.field(&id0), Some(Ok(_))));
 }
 
 #[test]

@@ -24,9 +24,9 @@ fn r_starts_the_grid_in_a_fresh_run_folder_and_not_twice() {
         }
         other => panic!("expected a start, got {other:?}"),
     }
-    assert_eq!(app.run, RunState::Running);
+    assert_eq!(*app.run_state(), RunState::Running);
     assert_eq!(app.on_key(key(KeyCode::Char('r'))), Command::None);
-    assert!(app.status.contains("running"), "{}", app.status);
+    assert!(app.status().contains("running"), "{}", app.status());
 }
 
 #[test]
@@ -36,13 +36,13 @@ fn cancel_keeps_the_rows_and_r_resumes_the_same_folder() {
     app.on_message(Message::Started { to_run: 8, kept: 0 });
     deliver(&mut app, &[0, 7]);
     assert_eq!(app.on_key(key(KeyCode::Char('c'))), Command::Cancel);
-    assert_eq!(app.run, RunState::Stopping);
+    assert_eq!(*app.run_state(), RunState::Stopping);
     app.on_message(Message::Finished {
         stopped: true,
         wall_s: 6.0,
         error: None,
     });
-    assert_eq!(app.run, RunState::Cancelled { wall_s: 6.0 });
+    assert_eq!(*app.run_state(), RunState::Cancelled { wall_s: 6.0 });
     assert_eq!(app.counts(), (2, 1));
     match app.on_key(key(KeyCode::Char('r'))) {
         Command::Start { dir, resume, .. } => {
@@ -86,11 +86,11 @@ fn after_a_cancel_another_accuracy_is_a_new_run_not_a_resume() {
 fn editing_checks_as_you_type_and_commits_only_valid_values() {
     let mut app = explorer(false);
     app.on_key(key(KeyCode::Tab));
-    assert_eq!(app.focus, Focus::Parameters);
+    assert_eq!(app.focus(), Focus::Parameters);
     app.on_key(key(KeyCode::Down)); // rp
     app.on_key(key(KeyCode::Enter));
     assert_eq!(
-        app.mode,
+        *app.mode(),
         Mode::Editing {
             buffer: "6, 15".into(),
             error: None
@@ -98,29 +98,29 @@ fn editing_checks_as_you_type_and_commits_only_valid_values() {
     );
     type_text(&mut app, ", 40");
     // rp = 40 mm cannot fit the 28 mm stroke of a 60 mm punch: the scene says why.
-    let Mode::Editing { error: Some(e), .. } = &app.mode else {
-        panic!("expected an error, got {:?}", app.mode)
+    let Mode::Editing { error: Some(e), .. } = app.mode() else {
+        panic!("expected an error, got {:?}", app.mode())
     };
-    assert!(e.contains("tools.rp"), "{e}");
+    assert!(e.to_string().contains("tools.rp"), "{e}");
     app.on_key(key(KeyCode::Enter));
-    assert!(matches!(app.mode, Mode::Editing { error: Some(_), .. }));
+    assert!(matches!(app.mode(), Mode::Editing { error: Some(_), .. }));
     for _ in 0..4 {
         app.on_key(key(KeyCode::Backspace));
     }
     type_text(&mut app, ", 10.5");
-    assert!(matches!(app.mode, Mode::Editing { error: None, .. }));
+    assert!(matches!(app.mode(), Mode::Editing { error: None, .. }));
     app.on_key(key(KeyCode::Enter));
-    assert_eq!(app.mode, Mode::Normal);
-    assert_eq!(app.params.fields[1].text, "6, 15, 10.5");
+    assert_eq!(*app.mode(), Mode::Normal);
+    assert_eq!(app.params().fields[1].text, "6, 15, 10.5");
     // Nothing ran yet: the table follows the edit.
-    assert_eq!(app.entries.len(), 12);
+    assert_eq!(app.entries().len(), 12);
     // Accuracy by ← →.
     app.on_key(key(KeyCode::End));
     app.on_key(key(KeyCode::Left));
-    assert_eq!(app.params.plan.base_scene.mesh.element_size, 5.0);
+    assert_eq!(app.params().plan.base_scene.mesh.element_size, 5.0);
     app.on_key(key(KeyCode::Right));
     app.on_key(key(KeyCode::Right));
-    assert_eq!(app.params.plan.base_scene.mesh.element_size, 1.25);
+    assert_eq!(app.params().plan.base_scene.mesh.element_size, 1.25);
 }
 
 #[test]
@@ -135,9 +135,13 @@ fn editing_after_a_run_marks_the_table_as_the_previous_grid() {
     type_text(&mut app, ", 0.3");
     app.on_key(key(KeyCode::Enter));
     assert!(app.edited());
-    assert_eq!(app.entries.len(), 8, "the results stay until the next run");
+    assert_eq!(
+        app.entries().len(),
+        8,
+        "the results stay until the next run"
+    );
     let before: Vec<(String, Option<f64>)> = app
-        .entries
+        .entries()
         .iter()
         .map(|e| {
             (
@@ -158,13 +162,13 @@ fn editing_after_a_run_marks_the_table_as_the_previous_grid() {
         }
         other => panic!("expected a start, got {other:?}"),
     }
-    assert_eq!(app.entries.len(), 16);
+    assert_eq!(app.entries().len(), 16);
     assert_eq!(app.counts().0, 8, "the finished rows stay on the table");
     // Each kept row sits on the design with its values (the id's hash part), renumbered.
     for (old_id, shear) in before {
         let hash = old_id.split('-').nth(1).unwrap();
         let e = app
-            .entries
+            .entries()
             .iter()
             .find(|e| e.design.id.ends_with(hash))
             .unwrap();
@@ -180,11 +184,11 @@ fn sorting_and_the_feasible_filter() {
     finished_run(&mut app);
     // From #, one press sorts by the shear (it took six, through every parameter).
     press(&mut app, &[KeyCode::Char('s'); 1]);
-    assert_eq!(app.sort_name(app.sort.column), "shear");
+    assert_eq!(app.sort_name(app.sort().column), "shear");
     let order: Vec<usize> = app
         .visible()
         .iter()
-        .map(|&i| app.entries[i].design.index)
+        .map(|&i| app.entries()[i].design.index)
         .collect();
     let shear = |i: usize| FIGURES[i].0;
     assert!(
@@ -193,22 +197,22 @@ fn sorting_and_the_feasible_filter() {
     );
     assert_eq!(order[0], 7, "the open design has the least shear");
     app.on_key(key(KeyCode::Char('S')));
-    assert_eq!(app.entries[app.visible()[0]].design.index, 0);
+    assert_eq!(app.entries()[app.visible()[0]].design.index, 0);
     app.on_key(key(KeyCode::Char('f')));
     let feasible: Vec<usize> = app
         .visible()
         .iter()
-        .map(|&i| app.entries[i].design.index)
+        .map(|&i| app.entries()[i].design.index)
         .collect();
     assert_eq!(feasible, [7]);
     // After shear: tension, force, verdict, time, then the five parameters, then round to the
     // design number.
     press(&mut app, &[KeyCode::Char('s'); 4]);
-    assert_eq!(app.sort_name(app.sort.column), "time");
+    assert_eq!(app.sort_name(app.sort().column), "time");
     press(&mut app, &[KeyCode::Char('s'); 1]);
-    assert_eq!(app.sort_name(app.sort.column), "r");
+    assert_eq!(app.sort_name(app.sort().column), "r");
     press(&mut app, &[KeyCode::Char('s'); 5]);
-    assert_eq!(app.sort.column, 0);
+    assert_eq!(app.sort().column, 0);
 }
 
 #[test]
@@ -216,23 +220,23 @@ fn detail_help_export_and_quit() {
     let mut app = explorer(false);
     // Nothing to export before a run.
     assert_eq!(app.on_key(key(KeyCode::Char('e'))), Command::None);
-    assert!(app.status.contains("nothing to export"));
+    assert!(app.status().contains("nothing to export"));
     finished_run(&mut app);
     app.on_key(key(KeyCode::Down));
     app.on_key(key(KeyCode::Enter));
-    assert_eq!(app.mode, Mode::Detail);
+    assert_eq!(*app.mode(), Mode::Detail);
     assert_eq!(app.selected_entry().unwrap().design.index, 1);
     app.on_key(key(KeyCode::Down));
     assert_eq!(app.selected_entry().unwrap().design.index, 2);
     app.on_key(key(KeyCode::Esc));
-    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(*app.mode(), Mode::Normal);
     app.on_key(key(KeyCode::Char('?')));
-    assert_eq!(app.mode, Mode::Help);
+    assert_eq!(*app.mode(), Mode::Help);
     app.on_key(key(KeyCode::Char('x')));
-    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(*app.mode(), Mode::Normal);
     app.on_key(key(KeyCode::Char('e')));
-    let Mode::Exporting { buffer } = app.mode.clone() else {
-        panic!("expected the export prompt, got {:?}", app.mode)
+    let Mode::Exporting { buffer } = app.mode().clone() else {
+        panic!("expected the export prompt, got {:?}", app.mode())
     };
     assert_eq!(buffer, "paper-box-explorer-export");
     type_text(&mut app, "-a");
@@ -244,7 +248,7 @@ fn detail_help_export_and_quit() {
         }
     );
     app.on_message(Message::Exported(Ok(vec![PathBuf::from("x/report.png")])));
-    assert!(app.status.contains("report.png"), "{}", app.status);
+    assert!(app.status().contains("report.png"), "{}", app.status());
     assert_eq!(app.on_key(key(KeyCode::Char('q'))), Command::Quit);
     let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
     assert_eq!(app.on_key(ctrl_c), Command::Quit);
@@ -275,10 +279,13 @@ fn a_field_is_read_when_its_design_is_selected_and_drawing_reads_no_file() {
     let mut app = App::new(params, session.path().to_path_buf(), false);
     app.on_key(key(KeyCode::Char('r')));
     app.on_message(Message::Started { to_run: 8, kept: 0 });
-    let run = app.run_dir.clone().expect("a run folder");
+    let run = app
+        .run_dir()
+        .map(std::path::Path::to_path_buf)
+        .expect("a run folder");
     std::fs::create_dir_all(run.join("fields")).expect("the fields folder");
-    let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
-    let ids: Vec<String> = app.entries.iter().map(|e| e.design.id.clone()).collect();
+    let locking = app.table_plan().base_scene.fabric.locking_angle_deg;
+    let ids: Vec<String> = app.entries().iter().map(|e| e.design.id.clone()).collect();
     for i in [0, 7] {
         let field = corner_field(&ids[i], FIGURES[i].0, locking);
         let text = serde_json::to_string(&field).expect("a field is plain data");
@@ -288,14 +295,14 @@ fn a_field_is_read_when_its_design_is_selected_and_drawing_reads_no_file() {
     // Design 7 finishes while design 0 is selected: its field waits until it is selected.
     let r = row(&app, 7, FIGURES[7]);
     app.on_message(Message::Row(Box::new(r)));
-    assert!(!app.fields.contains_key(&ids[7]));
+    assert!(app.field(&ids[7]).is_none());
     // The selected design finishes: its field is read then.
     let r = row(&app, 0, FIGURES[0]);
     app.on_message(Message::Row(Box::new(r)));
-    assert!(matches!(app.fields.get(&ids[0]), Some(Ok(_))));
+    assert!(matches!(app.field(&ids[0]), Some(Ok(_))));
     // Selecting design 7 reads its field.
     app.on_key(key(KeyCode::End));
-    assert!(matches!(app.fields.get(&ids[7]), Some(Ok(_))));
+    assert!(matches!(app.field(&ids[7]), Some(Ok(_))));
     // With the files gone, the detail still draws the map: drawing reads only the state.
     std::fs::remove_dir_all(run.join("fields")).expect("the fields removed");
     let s = screen(&app, 160, 48);
@@ -327,9 +334,9 @@ fn a_swept_locking_angle_is_each_designs_own_limit() {
         PathBuf::from("/session"),
         false,
     );
-    assert_eq!(app.entries.len(), 2);
-    assert_eq!(app.entries[0].limits[0], 55.0);
-    assert_eq!(app.entries[1].limits[0], 65.0);
+    assert_eq!(app.entries().len(), 2);
+    assert_eq!(app.entries()[0].limits.locking_angle_deg, 55.0);
+    assert_eq!(app.entries()[1].limits.locking_angle_deg, 65.0);
     app.on_key(key(KeyCode::Char('r')));
     app.on_message(Message::Started { to_run: 2, kept: 0 });
     // 58° and 300 N: over 55° (and under the 60° of the base scene), within 65°.
@@ -352,7 +359,11 @@ fn m_re_runs_only_the_marginal_designs_one_level_finer() {
     let mut app = explorer(false);
     // Nothing marginal yet: m says so and starts nothing.
     assert!(matches!(app.on_key(key(KeyCode::Char('m'))), Command::None));
-    assert!(app.status.contains("no marginal design"), "{}", app.status);
+    assert!(
+        app.status().contains("no marginal design"),
+        "{}",
+        app.status()
+    );
     finished_run(&mut app);
     // Design 7 at 59.5° ± 1.8° (standard): the 60° locking angle is inside its band.
     let mut r = row(&app, 7, (59.5, 297.0, 6507.0, 1.5));
@@ -367,7 +378,7 @@ fn m_re_runs_only_the_marginal_designs_one_level_finer() {
         } => {
             let only = only.expect("only the marginal designs");
             assert_eq!(only.len(), 1);
-            assert!(only.contains(&app.entries[7].design.id));
+            assert!(only.contains(&app.entries()[7].design.id));
             assert!(!resume);
             // One level finer than standard: fine, 1.25 mm elements.
             assert_eq!(plan.base_scene.mesh.element_size, 1.25);
@@ -375,11 +386,11 @@ fn m_re_runs_only_the_marginal_designs_one_level_finer() {
         other => panic!("expected a start, got {other:?}"),
     }
     assert!(
-        app.entries[7].row.is_none(),
+        app.entries()[7].row.is_none(),
         "its row waits for the finer run"
     );
     assert!(
-        app.entries[0].row.is_some(),
+        app.entries()[0].row.is_some(),
         "the settled designs keep theirs"
     );
 }
@@ -389,7 +400,7 @@ fn a_new_locking_angle_judges_the_rows_again_without_running() {
     let mut app = explorer(false);
     finished_run(&mut app);
     let verdict = |app: &App, i: usize| {
-        app.entries[i]
+        app.entries()[i]
             .row
             .as_ref()
             .map(|r| r.verdict.word().to_string())
@@ -407,8 +418,8 @@ fn a_new_locking_angle_judges_the_rows_again_without_running() {
     // Design 0 at 78.0° ± 1.2°: under 80° by more than its error. Nothing to run again.
     assert!(!app.edited(), "the table is the edited grid");
     assert_eq!(verdict(&app, 0).as_deref(), Some("FEASIBLE"));
-    assert_eq!(app.entries[0].limits[0], 80.0);
-    assert!(app.status.contains("judged again"), "{}", app.status);
+    assert_eq!(app.entries()[0].limits.locking_angle_deg, 80.0);
+    assert!(app.status().contains("judged again"), "{}", app.status());
     // Design 7 at 58.0°: with the locking angle at 58.5° it lies inside the band.
     app.on_key(key(KeyCode::Enter));
     for _ in 0..4 {
@@ -423,14 +434,14 @@ fn a_new_locking_angle_judges_the_rows_again_without_running() {
 #[test]
 fn a_status_message_fades_and_a_new_one_shows_at_once() {
     let mut app = explorer(false);
-    app.status = "exported to /tmp/x".into();
+    app.set_status("exported to /tmp/x");
     assert_eq!(app.fresh_status(), Some("exported to /tmp/x"));
     app.note_status_time();
-    app.now_s = 5.0;
+    app.set_now(5.0);
     assert!(app.fresh_status().is_some(), "still news after 5 s");
-    app.now_s = 30.0;
+    app.set_now(30.0);
     assert_eq!(app.fresh_status(), None, "stale after 30 s");
-    app.status = "cancelling…".into();
+    app.set_status("cancelling…");
     assert_eq!(app.fresh_status(), Some("cancelling…"));
 }
 

@@ -70,8 +70,8 @@ fn running_with_partial_results() {
     press(&mut app, &[KeyCode::Char('r')]);
     app.on_message(Message::Started { to_run: 8, kept: 0 });
     deliver(&mut app, &[0, 4, 7]);
-    app.now_s = 12.0;
-    assert_eq!(app.run, RunState::Running);
+    app.set_now(12.0);
+    assert_eq!(*app.run_state(), RunState::Running);
     // 3 done in 12 s: 4 s a design, 5 to go: 20 s.
     assert_eq!(app.eta_s(), Some(analytic::eta_s(3, 8, 12.0)));
     let s = screen(&app, 80, 24);
@@ -118,7 +118,7 @@ fn detail_of_an_infeasible_design_shows_the_corners_over_the_limit() {
     deliver(&mut app, &[0, 7]);
     // Design 0 is the paper's tight design; it is selected first (sorted by number).
     press(&mut app, &[KeyCode::Enter]);
-    assert_eq!(app.mode, Mode::Detail);
+    assert_eq!(*app.mode(), Mode::Detail);
     let s = screen(&app, 80, 24);
     assert!(s.contains("design 0 · r 5, rp 6, rm 5 mm"), "{s}");
     assert!(s.contains("✗ shear"), "{s}");
@@ -173,10 +173,10 @@ fn an_invalid_edit_shows_an_inline_message_and_is_never_run() {
     snapshot("tui_edit_error_80x24", &s);
     // Enter does not take it; Esc drops it; the plan is untouched.
     press(&mut app, &[KeyCode::Enter]);
-    assert!(matches!(app.mode, Mode::Editing { error: Some(_), .. }));
+    assert!(matches!(app.mode(), Mode::Editing { error: Some(_), .. }));
     press(&mut app, &[KeyCode::Esc]);
-    assert_eq!(app.params.fields[0].text, "5, 10");
-    assert_eq!(app.params.plan.len(), 8);
+    assert_eq!(app.params().fields[0].text, "5, 10");
+    assert_eq!(app.params().plan.len(), 8);
 }
 
 #[test]

@@ -57,10 +57,10 @@ pub fn type_text(app: &mut App, text: &str) {
 /// (`analytic::verdict_word`): the shear and tension with the accuracy level's error bands
 /// against the locking angle and the break tension. (A crate that uses this module declares `mod analytic;` too.)
 pub fn row(app: &App, index: usize, figures: (f64, f64, f64, f64)) -> Row {
-    let e = &app.entries[index];
-    let fabric = &app.table_plan.base_scene.fabric;
+    let e = &app.entries()[index];
+    let fabric = &app.table_plan().base_scene.fabric;
     let (shear, tension, force, wall) = figures;
-    let err = app.params.accuracy.error();
+    let err = app.params().accuracy.error();
     let word = crate::analytic::verdict_word(
         (shear, err.max_shear_deg, fabric.locking_angle_deg),
         (tension, err.max_tension_pct, fabric.break_tension_n),
@@ -134,11 +134,10 @@ pub fn corner_field(id: &str, peak: f64, locking: f64) -> StoredField {
 pub fn deliver(app: &mut App, designs: &[usize]) {
     for &i in designs {
         let r = row(app, i, FIGURES[i]);
-        let locking = app.table_plan.base_scene.fabric.locking_angle_deg;
+        let locking = app.table_plan().base_scene.fabric.locking_angle_deg;
         let id = r.design.clone();
         app.on_message(Message::Row(Box::new(r)));
-        app.fields
-            .insert(id.clone(), Ok(corner_field(&id, FIGURES[i].0, locking)));
+        app.keep_field(id.clone(), corner_field(&id, FIGURES[i].0, locking));
     }
 }
 

@@ -7,6 +7,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{FieldMap, colour_on};
 use crate::report::canvas::Area;
+use crate::report::error::PlotError;
 use crate::report::plot::tick_label;
 
 /// Width of the bar, px.
@@ -41,8 +42,7 @@ impl FieldMap {
         root: &Area,
         area: &Area,
         rows: (i32, i32),
-    ) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    ) -> Result<(), PlotError> {
         let font = "sans-serif";
         let top = self.scale_top();
         let (cols, _) = area.get_pixel_range();
@@ -58,39 +58,14 @@ impl FieldMap {
             root.draw(&Rectangle::new(
                 [(x0, y), (x1, y + 1)],
                 RGBColor(c.0, c.1, c.2).filled(),
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
         }
         root.draw(&Rectangle::new(
             [(x0, y_top), (x1, y_bottom)],
             ShapeStyle::from(BLACK).stroke_width(1),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
         // Ticks and labels on the left, clear of the bar.
-        let step = nice_step(top / 8.0);
-        let tick_style = ShapeStyle::from(BLACK).stroke_width(1);
-        let label = (font, 16)
-            .into_font()
-            .color(&BLACK)
-            .pos(Pos::new(HPos::Right, VPos::Center));
-        let (t1, t0) = (x0 - TICK_GAP, x0 - TICK_GAP - TICK_LEN);
-        let mut k = 0;
-        loop {
-            let v = k as f64 * step;
-            if v > top * (1.0 + 1e-9) {
-                break;
-            }
-            let y = y_of(v);
-            root.draw(&PathElement::new(vec![(t0, y), (t1, y)], tick_style))
-                .map_err(|e| err(&e))?;
-            root.draw(&Text::new(
-                tick_label(v),
-                (t0 - LABEL_GAP, y),
-                label.clone(),
-            ))
-            .map_err(|e| err(&e))?;
-            k += 1;
-        }
+        draw_ticks(root, top, x0, &y_of)?;
         let text = |s: String, y: i32, bold: bool| {
             let f = (font, 17).into_font();
             let f = if bold { f.style(FontStyle::Bold) } else { f };
@@ -107,23 +82,19 @@ impl FieldMap {
         root.draw(&PathElement::new(
             vec![(x1 + 1, y_max), (x1 + 13, y_max)],
             ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
         // Whether the largest value's label is clear of the limit's.
         let max_label_clear = if self.limit_off_scale() {
             // The field stays under its limit: name the limit above the scale, under the
             // largest value's label (the top of this scale is a little past it).
             let y = y_max.max(y_top + 10) + 30;
-            root.draw(&text(self.limit_name.clone(), y, true))
-                .map_err(|e| err(&e))?;
+            root.draw(&text(self.limit_name.clone(), y, true))?;
             root.draw(&text(
                 format!("{}, above", self.unit.show(self.limit)),
                 y + 21,
                 true,
-            ))
-            .map_err(|e| err(&e))?;
-            root.draw(&text("this scale".into(), y + 42, true))
-                .map_err(|e| err(&e))?;
+            ))?;
+            root.draw(&text("this scale".into(), y + 42, true))?;
             true
         } else {
             // The limit: a thick line across the bar and out to the right, where its name
@@ -132,16 +103,12 @@ impl FieldMap {
             root.draw(&PathElement::new(
                 vec![(x0, y_limit), (x1 + 12, y_limit)],
                 ShapeStyle::from(BLACK).stroke_width(3),
-            ))
-            .map_err(|e| err(&e))?;
-            root.draw(&text(self.limit_name.clone(), y_limit + 14, true))
-                .map_err(|e| err(&e))?;
-            root.draw(&text(self.unit.show(self.limit), y_limit + 35, true))
-                .map_err(|e| err(&e))?;
+            ))?;
+            root.draw(&text(self.limit_name.clone(), y_limit + 14, true))?;
+            root.draw(&text(self.unit.show(self.limit), y_limit + 35, true))?;
             // Over the limit: say what the magenta means.
             if y_limit - y_top > 24 {
-                root.draw(&text("over the limit".into(), (y_top + y_limit) / 2, false))
-                    .map_err(|e| err(&e))?;
+                root.draw(&text("over the limit".into(), (y_top + y_limit) / 2, false))?;
             }
             y_max < y_limit - 24 || y_max > y_limit + 50
         };
@@ -150,21 +117,52 @@ impl FieldMap {
                 format!("element {}", self.unit.show(max)),
                 y_max,
                 false,
-            ))
-            .map_err(|e| err(&e))?;
+            ))?;
         }
         // The caption above the bar.
+        self.draw_bar_caption(root, (x0 + x1) / 2, y_top)
+    }
+
+    /// The bar's caption, centred on `x` above the bar's top row `y_top`.
+    fn draw_bar_caption(&self, root: &Area, x: i32, y_top: i32) -> Result<(), PlotError> {
         root.draw(&Text::new(
             self.bar_caption.clone(),
-            ((x0 + x1) / 2, y_top - 12),
-            (font, 18)
+            (x, y_top - 12),
+            ("sans-serif", 18)
                 .into_font()
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Center, VPos::Bottom)),
-        ))
-        .map_err(|e| err(&e))?;
+        ))?;
         Ok(())
     }
+}
+
+/// The ticks and labels of a bar scaled 0..`top`, on the left of its edge `x0`, clear of it;
+/// `y_of` places a value.
+fn draw_ticks(root: &Area, top: f64, x0: i32, y_of: &dyn Fn(f64) -> i32) -> Result<(), PlotError> {
+    let step = nice_step(top / 8.0);
+    let tick_style = ShapeStyle::from(BLACK).stroke_width(1);
+    let label = ("sans-serif", 16)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Right, VPos::Center));
+    let (t1, t0) = (x0 - TICK_GAP, x0 - TICK_GAP - TICK_LEN);
+    let mut k = 0;
+    loop {
+        let v = k as f64 * step;
+        if v > top * (1.0 + 1e-9) {
+            break;
+        }
+        let y = y_of(v);
+        root.draw(&PathElement::new(vec![(t0, y), (t1, y)], tick_style))?;
+        root.draw(&Text::new(
+            tick_label(v),
+            (t0 - LABEL_GAP, y),
+            label.clone(),
+        ))?;
+        k += 1;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ mod developed;
 pub use bar::nice_step;
 pub use developed::{FullBlank, MaterialLine, shear_developed, tension_developed};
 
-use super::error::DrawError;
+use super::error::{DrawError, PlotError};
 use std::path::Path;
 
 use plotters::prelude::*;
@@ -257,7 +257,8 @@ pub fn die_opening_outline(tooling: &Tooling) -> Vec<[f64; 2]> {
     tooling.die_opening_outline()
 }
 
-use super::canvas::{Area, write_png};
+use super::canvas::{Area, Canvas, write_png};
+use plotters::coord::types::RangedCoordf64;
 
 impl FieldMap {
     /// The top of the colour scale: the shared one when given ([`FieldMap::scale_max`]), else
@@ -303,8 +304,7 @@ impl FieldMap {
         write_png(path, self.size, "map", |root| self.draw(root))
     }
 
-    fn draw(&self, root: &Area) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    fn draw(&self, root: &Area) -> Result<(), PlotError> {
         let font = "sans-serif";
         let (w, _) = self.size;
         // The title, then the subtitle's lines and the design's, 26 px apart.
@@ -335,9 +335,9 @@ impl FieldMap {
                 style_at(size),
             ))
         };
-        line(&self.title, 14, 26, true, BLACK).map_err(|e| err(&e))?;
+        line(&self.title, 14, 26, true, BLACK)?;
         for (i, text) in lines.iter().enumerate() {
-            line(text, 54 + 26 * i as i32, 17, false, RGBColor(60, 60, 60)).map_err(|e| err(&e))?;
+            line(text, 54 + 26 * i as i32, 17, false, RGBColor(60, 60, 60))?;
         }
         let bar_width = 250;
         let (map_area, bar_area) = body.split_horizontally(w - bar_width);
@@ -375,9 +375,43 @@ impl FieldMap {
         ((cx - hx, cx + hx), (cy - hy, cy + hy))
     }
 
+    /// The peak at `at` (mm): a red ring, and its value on a pale label beside it.
+    fn draw_peak<'a>(
+        &self,
+        chart: &mut ChartContext<'a, Canvas<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+        at: [f64; 2],
+    ) -> Result<(), PlotError> {
+        let label = match self.peak {
+            Some(peak) => format!("cell peak {}", self.unit.show(peak)),
+            None => format!(
+                "max {}",
+                self.unit
+                    .show(self.values.iter().cloned().fold(0.0, f64::max))
+            ),
+        };
+        let width = text_width(&label, 18.0, FontStyle::Bold).ceil() as i32;
+        let style = ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3);
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((at[0], at[1]))
+                + Circle::new((0, 0), 9, style)
+                + Rectangle::new(
+                    [(8, -29), (16 + width, -5)],
+                    ShapeStyle::from(WHITE.mix(0.85)).filled(),
+                )
+                + Text::new(
+                    label,
+                    (12, -26),
+                    ("sans-serif", 18)
+                        .into_font()
+                        .style(FontStyle::Bold)
+                        .color(&BLACK),
+                ),
+        ))?;
+        Ok(())
+    }
+
     /// Draws the blank; returns the plot area's pixel rows (top, bottom) for the colour bar.
-    fn draw_map(&self, area: &Area) -> Result<(i32, i32), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    fn draw_map(&self, area: &Area) -> Result<(i32, i32), PlotError> {
         let font = "sans-serif";
         let builder = |x: (f64, f64), y: (f64, f64)| {
             ChartBuilder::on(area)
@@ -387,10 +421,10 @@ impl FieldMap {
                 .build_cartesian_2d(x.0..x.1, y.0..y.1)
         };
         // Build once to learn the plot area's size, then again with equal scales.
-        let probe = builder((0.0, 1.0), (0.0, 1.0)).map_err(|e| err(&e))?;
+        let probe = builder((0.0, 1.0), (0.0, 1.0))?;
         let (px, py) = probe.plotting_area().dim_in_pixel();
         let (xr, yr) = self.ranges(px, py);
-        let mut chart = builder(xr, yr).map_err(|e| err(&e))?;
+        let mut chart = builder(xr, yr)?;
         chart
             .configure_mesh()
             .x_desc("x (mm)")
@@ -400,84 +434,51 @@ impl FieldMap {
             .x_label_formatter(&|v| tick_label(*v))
             .y_label_formatter(&|v| tick_label(*v))
             .disable_mesh()
-            .draw()
-            .map_err(|e| err(&e))?;
+            .draw()?;
         let rgb = |c: (u8, u8, u8)| RGBColor(c.0, c.1, c.2);
         let poly = |q: &PlanQuad| -> Vec<(f64, f64)> { q.iter().map(|p| (p[0], p[1])).collect() };
         // Once per map, not once per quad: it scans every value.
         let span = self.colour_span();
-        chart
-            .draw_series(self.quads.iter().zip(&self.values).map(|(q, &v)| {
-                let c = colour_on(v, self.limit, span);
-                Polygon::new(poly(q), rgb(c).filled())
-            }))
-            .map_err(|e| err(&e))?;
+        chart.draw_series(self.quads.iter().zip(&self.values).map(|(q, &v)| {
+            let c = colour_on(v, self.limit, span);
+            Polygon::new(poly(q), rgb(c).filled())
+        }))?;
         // The element edges, faint: they are the yarns, and show the shear by themselves.
         let edge = ShapeStyle::from(BLACK.mix(0.12)).stroke_width(1);
-        chart
-            .draw_series(self.quads.iter().map(|q| {
-                let mut p = poly(q);
-                p.push(p[0]);
-                PathElement::new(p, edge)
-            }))
-            .map_err(|e| err(&e))?;
+        chart.draw_series(self.quads.iter().map(|q| {
+            let mut p = poly(q);
+            p.push(p[0]);
+            PathElement::new(p, edge)
+        }))?;
         for outline in &self.outlines {
             let pts: Vec<(f64, f64)> = outline.points.iter().map(|p| (p[0], p[1])).collect();
             let (dash, gap, colour) = match outline.style {
                 OutlineStyle::Dashed => (9, 6, RGBColor(90, 90, 90)),
                 OutlineStyle::Dotted => (3, 5, RGBColor(20, 20, 20)),
             };
-            chart
-                .draw_series(DashedLineSeries::new(
-                    pts,
-                    dash,
-                    gap,
-                    ShapeStyle::from(colour).stroke_width(2),
-                ))
-                .map_err(|e| err(&e))?;
+            chart.draw_series(DashedLineSeries::new(
+                pts,
+                dash,
+                gap,
+                ShapeStyle::from(colour).stroke_width(2),
+            ))?;
         }
         // Over the limit: outlined on top of everything else, thin and in a darker magenta, so
         // that a corner of small sheared cells reads as magenta cells, not as a black blob.
         let outline = ShapeStyle::from(RGBColor(110, 0, 80)).stroke_width(1);
-        chart
-            .draw_series(
-                self.quads
-                    .iter()
-                    .zip(&self.values)
-                    .filter(|(_, v)| **v > self.limit)
-                    .map(|(q, _)| {
-                        let mut p = poly(q);
-                        p.push(p[0]);
-                        PathElement::new(p, outline)
-                    }),
-            )
-            .map_err(|e| err(&e))?;
+        chart.draw_series(
+            self.quads
+                .iter()
+                .zip(&self.values)
+                .filter(|(_, v)| **v > self.limit)
+                .map(|(q, _)| {
+                    let mut p = poly(q);
+                    p.push(p[0]);
+                    PathElement::new(p, outline)
+                }),
+        )?;
         if let Some(at) = self.max_at {
-            let label = match self.peak {
-                Some(peak) => format!("cell peak {}", self.unit.show(peak)),
-                None => format!(
-                    "max {}",
-                    self.unit
-                        .show(self.values.iter().cloned().fold(0.0, f64::max))
-                ),
-            };
-            let width = text_width(&label, 18.0, FontStyle::Bold).ceil() as i32;
-            let style = ShapeStyle::from(RGBColor(220, 0, 0)).stroke_width(3);
-            chart
-                .draw_series(std::iter::once(
-                    EmptyElement::at((at[0], at[1]))
-                        + Circle::new((0, 0), 9, style)
-                        + Rectangle::new(
-                            [(8, -29), (16 + width, -5)],
-                            ShapeStyle::from(WHITE.mix(0.85)).filled(),
-                        )
-                        + Text::new(
-                            label,
-                            (12, -26),
-                            (font, 18).into_font().style(FontStyle::Bold).color(&BLACK),
-                        ),
-                ))
-                .map_err(|e| err(&e))?;
+            self.draw_peak(&mut chart, at)?;
         }
         let (_, rows) = chart.plotting_area().get_pixel_range();
         Ok((rows.start, rows.end))

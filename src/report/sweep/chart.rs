@@ -162,53 +162,8 @@ pub(super) fn shear_chart(
     let panel_at = combinations(plan, &layout.panel_axes);
     let line_at = combinations(plan, &layout.line_axes);
     let shown = panel_at.len().min(MAX_PANELS);
-    let mut panels = Vec::with_capacity(shown);
-    for at in &panel_at[..shown] {
-        let mut lines = Vec::new();
-        for (li, line) in line_at.iter().enumerate() {
-            let mut points: Vec<PanelPoint> = rows
-                .iter()
-                .filter(|r| {
-                    let d = &designs[r.index];
-                    holds(plan, d, &layout.panel_axes, at)
-                        && holds(plan, d, &layout.line_axes, line)
-                })
-                .map(|r| point(&layout, plan, r, &designs[r.index]))
-                .collect();
-            if points.is_empty() {
-                continue;
-            }
-            points.sort_by(|a, b| a.x.total_cmp(&b.x));
-            lines.push(PanelLine {
-                colour: Colour::nth(li),
-                points,
-            });
-        }
-        panels.push(Panel {
-            title: describe(plan, &layout.panel_axes, at, " · "),
-            lines,
-        });
-    }
-    // The key names the values only when one parameter makes the lines (its name is the
-    // key's title).
-    let key = if line_at.len() > 1 {
-        line_at
-            .iter()
-            .enumerate()
-            .map(|(li, at)| {
-                let name = match (layout.line_axes.as_slice(), at.as_slice()) {
-                    ([a], [i]) => {
-                        let axis = &plan.axes[*a];
-                        format!("{}{}", show_value(&axis.values[*i]), unit_of(&axis.key))
-                    }
-                    _ => describe(plan, &layout.line_axes, at, ", "),
-                };
-                (name, Colour::nth(li))
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let panels = panels_of(plan, rows, designs, &layout, &panel_at[..shown], &line_at);
+    let key = key_of(plan, &layout, &line_at);
     let (x_ticks, x_range) = x_axis(plan, &layout);
     let y_range = y_range(&panels, locking);
     let xa = &plan.axes[layout.x];
@@ -223,24 +178,7 @@ pub(super) fn shear_chart(
             .map(|&a| plan.axes[a].column.as_str())
             .collect::<Vec<_>>()
     };
-    let mut title = format!("Max shear against {x_label}");
-    if !layout.panel_axes.is_empty() {
-        title.push_str(&format!(
-            ": a panel per {}",
-            names(&layout.panel_axes).join(" × ")
-        ));
-    }
-    if !key.is_empty() {
-        title.push_str(&format!(
-            "{} a line per {}",
-            if layout.panel_axes.is_empty() {
-                ":"
-            } else {
-                ","
-            },
-            names(&layout.line_axes).join(" × ")
-        ));
-    }
+    let title = chart_title(plan, &layout, &x_label, !key.is_empty());
     let columns = match layout.panel_axes.last() {
         Some(&a) if (2..=4).contains(&plan.axes[a].values.len()) => plan.axes[a].values.len(),
         _ => (shown as f64).sqrt().ceil().clamp(1.0, 4.0) as usize,
@@ -261,6 +199,98 @@ pub(super) fn shear_chart(
     };
     let notes = notes(&layout, plan, rows, locking, (shown, panel_at.len()));
     (Some(chart), notes)
+}
+
+/// The panels (at most those of `panel_at`), a line in each per combination of `line_at`
+/// that has rows.
+fn panels_of(
+    plan: &Plan,
+    rows: &[Row],
+    designs: &[Design],
+    layout: &Layout,
+    panel_at: &[Vec<usize>],
+    line_at: &[Vec<usize>],
+) -> Vec<Panel> {
+    let mut panels = Vec::with_capacity(panel_at.len());
+    for at in panel_at {
+        let mut lines = Vec::new();
+        for (li, line) in line_at.iter().enumerate() {
+            let mut points: Vec<PanelPoint> = rows
+                .iter()
+                .filter(|r| {
+                    let d = &designs[r.index];
+                    holds(plan, d, &layout.panel_axes, at)
+                        && holds(plan, d, &layout.line_axes, line)
+                })
+                .map(|r| point(layout, plan, r, &designs[r.index]))
+                .collect();
+            if points.is_empty() {
+                continue;
+            }
+            points.sort_by(|a, b| a.x.total_cmp(&b.x));
+            lines.push(PanelLine {
+                colour: Colour::nth(li),
+                points,
+            });
+        }
+        panels.push(Panel {
+            title: describe(plan, &layout.panel_axes, at, " · "),
+            lines,
+        });
+    }
+    panels
+}
+
+/// The key of the lines: their names and colours, when there is more than one line.
+fn key_of(plan: &Plan, layout: &Layout, line_at: &[Vec<usize>]) -> Vec<(String, Colour)> {
+    // The key names the values only when one parameter makes the lines (its name is the
+    // key's title).
+    if line_at.len() > 1 {
+        line_at
+            .iter()
+            .enumerate()
+            .map(|(li, at)| {
+                let name = match (layout.line_axes.as_slice(), at.as_slice()) {
+                    ([a], [i]) => {
+                        let axis = &plan.axes[*a];
+                        format!("{}{}", show_value(&axis.values[*i]), unit_of(&axis.key))
+                    }
+                    _ => describe(plan, &layout.line_axes, at, ", "),
+                };
+                (name, Colour::nth(li))
+            })
+            .collect()
+    } else {
+        Vec::new()
+    }
+}
+
+/// The chart's title: what the x axis is, and what the panels and lines are.
+fn chart_title(plan: &Plan, layout: &Layout, x_label: &str, keyed: bool) -> String {
+    let names = |axes: &[usize]| {
+        axes.iter()
+            .map(|&a| plan.axes[a].column.as_str())
+            .collect::<Vec<_>>()
+    };
+    let mut title = format!("Max shear against {x_label}");
+    if !layout.panel_axes.is_empty() {
+        title.push_str(&format!(
+            ": a panel per {}",
+            names(&layout.panel_axes).join(" × ")
+        ));
+    }
+    if keyed {
+        title.push_str(&format!(
+            "{} a line per {}",
+            if layout.panel_axes.is_empty() {
+                ":"
+            } else {
+                ","
+            },
+            names(&layout.line_axes).join(" × ")
+        ));
+    }
+    title
 }
 
 /// A design's point: at its x exactly, its max shear when the run gave an answer.

@@ -62,9 +62,8 @@ fn title(plan: &Plan, rows: &[Row]) -> String {
     )
 }
 
-/// The base scene, what is swept and what is fixed, and what feasible means.
-fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
-    let base = &plan.base_scene;
+/// The base scene's tools in words, with the die's clearance (a mesh die's is in its STL).
+fn tools_line(base: &crate::scene::Scene) -> String {
     let t = &base.tools;
     let tools = match t.kind {
         ToolKind::Box => format!("box punch {} × {} mm", t.side.0[0], t.side.0[1]),
@@ -80,11 +79,17 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
         ),
     };
     // A mesh die's clearance is in its STL.
-    let tools = if t.kind == ToolKind::Mesh {
+    if t.kind == ToolKind::Mesh {
         tools
     } else {
         format!("{tools}, clearance {} mm", t.clearance)
-    };
+    }
+}
+
+/// The base scene, what is swept and what is fixed, and what feasible means.
+fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
+    let base = &plan.base_scene;
+    let tools = tools_line(base);
     let law = if base.fabric.undulation {
         "woven law"
     } else {

@@ -62,6 +62,12 @@ pub fn table(plan: &Plan, rows: &[Row]) -> String {
         line.push(verdict);
         body.push(line);
     }
+    aligned(&head, &body)
+}
+
+/// The header's two lines (names, units) and the body, in columns: the mark and the design
+/// left-aligned, the parameters and figures right-aligned, the verdict last as it is.
+fn aligned(head: &[(String, String)], body: &[Vec<String>]) -> String {
     let n = head.len();
     let width: Vec<usize> = (0..n)
         .map(|i| {
@@ -104,7 +110,7 @@ pub fn table(plan: &Plan, rows: &[Row]) -> String {
         "{}",
         fmt_line(head.iter().map(|h| h.1.as_str()).collect())
     );
-    for line in &body {
+    for line in body {
         let _ = writeln!(
             out,
             "{}",

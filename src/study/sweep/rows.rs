@@ -11,7 +11,7 @@ use super::grid::{Column, Design};
 use super::plan::Plan;
 use super::values::show_value;
 use crate::summary::RunSummary;
-use crate::verdict::Verdict;
+use crate::verdict::{Figures, Judged, Limits, Verdict};
 
 /// The columns of `results.csv` after the parameters, in order: the contract's figures, then
 /// the design's id, its verdict and why it failed or is invalid.
@@ -176,7 +176,7 @@ impl Row {
         design: &Design,
         s: &RunSummary,
     ) -> Row {
-        let verdict = s.judged;
+        let verdict = s.judged.verdict;
         Row {
             design: design.id.clone(),
             index: design.index,
@@ -196,6 +196,36 @@ impl Row {
                 (!s.unsound.is_empty()).then(|| format!("not sound: {}", s.unsound.join("; ")))
             }),
         }
+    }
+
+    /// The figures the row answered (an error not known counts 0), if it has both.
+    pub fn figures(&self) -> Option<Figures> {
+        Some(Figures {
+            max_shear_deg: self.max_shear_deg?,
+            max_tension_n: self.max_tension_n?,
+            max_shear_err_deg: self.max_shear_err_deg.unwrap_or(0.0),
+            max_tension_err_pct: self.max_tension_err_pct.unwrap_or(0.0),
+        })
+    }
+
+    /// The row's verdict and the limit(s) of `limits` that decide it, by its figures' bands.
+    pub fn judged(&self, limits: Limits) -> Judged {
+        Judged::explain(self.verdict, self.figures().as_ref(), limits)
+    }
+
+    /// The row judged again against `limits`: the figures and their errors stay, the verdict
+    /// and `feasible` follow the new limits. Rows without an answer (failed, invalid, not
+    /// sound) keep theirs.
+    pub fn rejudge(&mut self, limits: Limits) {
+        let answered = matches!(
+            self.verdict,
+            Verdict::Feasible | Verdict::Marginal | Verdict::Infeasible
+        );
+        let Some(figures) = self.figures().filter(|_| answered) else {
+            return;
+        };
+        self.verdict = Judged::of(&figures, limits).verdict;
+        self.feasible = self.verdict == Verdict::Feasible;
     }
 
     /// Reads a row from its CSV fields; the design must be in the grid. `None` if anything is
