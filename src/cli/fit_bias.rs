@@ -11,7 +11,7 @@ use wovenform::scene::{Scene, SceneError, specimen};
 use wovenform::study::fit::refine::{
     FE_POINTS, Refined, fitted_fabric_toml, refine, usable_points,
 };
-use wovenform::study::fit::shear::{BiasSpecimen, ShearFit, read_bias_curve};
+use wovenform::study::fit::shear::{BiasPoint, BiasSpecimen, ShearFit, read_bias_curve};
 
 /// `HxW` (or `WxH`: the longer side is the length), mm.
 pub fn parse_specimen(text: &str) -> Result<[f64; 2], String> {
@@ -43,6 +43,22 @@ pub struct BiasFitArgs<'a> {
     pub scene_file: Option<PathBuf>,
 }
 
+impl<'a> BiasFitArgs<'a> {
+    /// What `fit --bias HxW` (the specimen's sides) was given.
+    pub fn of(args: &'a super::fit::FitArgs, specimen: [f64; 2]) -> BiasFitArgs<'a> {
+        BiasFitArgs {
+            data: &args.data,
+            specimen,
+            max_shear_deg: args.max_shear,
+            from_mm: args.from_mm,
+            refine: args.refine,
+            element_size: args.element_size,
+            out: args.out.out.clone(),
+            scene_file: args.scene.scene.clone(),
+        }
+    }
+}
+
 pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
     let bad = |e: String| CliError::bad_input(e);
     let specimen = check(scene, &args)?;
@@ -50,42 +66,23 @@ pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
     let points = read_bias_curve(args.data).map_err(|e| bad(e.to_string()))?;
     let used = usable_points(&specimen, &points, &data).map_err(|e| bad(e.to_string()))?;
     let dir = (args.out.clone()).unwrap_or_else(|| outputs::default_dir("fit-bias-", args.data));
-    let mut inputs = outputs::scene_inputs(args.scene_file.as_deref(), scene);
-    inputs.push(Input::new(args.data, "the measured bias-extension curve"));
-    let mut files = super::bias::bias_outputs(&dir);
     let toml_path = dir.join("fabric.toml");
-    files.push(Output::owned_if(&toml_path, outputs::FABRIC_TOML_HEAD));
-    outputs::prepare(&dir, &files, &inputs)?;
-    let bar = stderr_bar(
-        args.refine as u64,
-        "{spinner} [{elapsed_precise}] {bar:40} {msg}",
-    );
-    let mut on_pass = |pass: usize| {
-        bar.set_position(pass as u64);
-        bar.set_message(format!("finite-element test, pass {}", pass + 1));
-    };
-    let (passes, h) = (args.refine, args.element_size);
-    let refined = refine(scene, &specimen, &used, passes, h, &data, &mut on_pass)
-        .map_err(|e| bad(e.to_string()))?;
-    bar.finish_and_clear();
+    prepare(scene, &args, &dir, &toml_path)?;
+    let refined = refine_shown(scene, &args, &specimen, &used, &data)?;
     report(&specimen, &refined, args.refine);
-    let measured: Vec<(f64, f64)> = points
-        .iter()
+    let measured: Vec<(f64, f64)> = (points.iter())
         .map(|p| (p.displacement_mm, p.force_n))
         .collect();
     let (problem, result) = (&refined.problem, &refined.result);
     let locking = scene.fabric.locking_angle_deg;
     let mut files =
         wovenform::publish::write_bias(&dir, problem, result, locking, Some(&measured))?;
+    let from = (args.scene_file.as_ref()).map_or("the paper's glass fabric".to_string(), |p| {
+        p.display().to_string()
+    });
     let header = format!(
-        "# The fabric of {} with the shear law fitted to {data} ({} × {} mm bias extension).",
-        args.scene_file
-            .as_ref()
-            .map_or("the paper's glass fabric".to_string(), |p| p
-                .display()
-                .to_string()),
-        specimen.length,
-        specimen.width,
+        "# The fabric of {from} with the shear law fitted to {data} ({} × {} mm bias extension).",
+        specimen.length, specimen.width,
     );
     let text = fitted_fabric_toml(scene, &refined.fit, &header);
     files.push(wovenform::publish::write_text(&toml_path, &text)?);
@@ -93,6 +90,42 @@ pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
         println!("{}", f.display());
     }
     Ok(())
+}
+
+/// The output folder made ready: the test's files and `fabric.toml` at `toml_path`, none over
+/// the scene, its tools or the measured curve.
+fn prepare(
+    scene: &Scene,
+    args: &BiasFitArgs,
+    dir: &Path,
+    toml_path: &Path,
+) -> Result<(), CliError> {
+    let mut inputs = outputs::scene_inputs(args.scene_file.as_deref(), scene);
+    inputs.push(Input::new(args.data, "the measured bias-extension curve"));
+    let mut files = super::bias::bias_outputs(dir);
+    files.push(Output::owned_if(toml_path, outputs::FABRIC_TOML_HEAD));
+    outputs::prepare(dir, &files, &inputs)
+}
+
+/// The refined fit, its passes on a progress bar.
+fn refine_shown(
+    scene: &Scene,
+    args: &BiasFitArgs,
+    specimen: &BiasSpecimen,
+    used: &[BiasPoint],
+    data: &str,
+) -> Result<Refined, CliError> {
+    let template = "{spinner} [{elapsed_precise}] {bar:40} {msg}";
+    let bar = stderr_bar(args.refine as u64, template);
+    let mut on_pass = |pass: usize| {
+        bar.set_position(pass as u64);
+        bar.set_message(format!("finite-element test, pass {}", pass + 1));
+    };
+    let (passes, h) = (args.refine, args.element_size);
+    let refined = refine(scene, specimen, used, passes, h, data, &mut on_pass)
+        .map_err(|e| CliError::bad_input(e.to_string()))?;
+    bar.finish_and_clear();
+    Ok(refined)
 }
 
 /// The specimen and the fit's options, checked against their bounds (the data's stroke is

@@ -200,14 +200,7 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
     let scripts = scripts(&job)?;
     refuse_other_sweeps(&job.out, &plan)?;
     if tasks < args.tasks {
-        eprintln!(
-            "--tasks {}: {} designs of about {per_design_s:.1} s each on {} cpus a task make {tasks} \
-             task(s) of at least {} s of work (--min-task-s)",
-            args.tasks,
-            plan.len(),
-            args.cpus_per_task,
-            args.min_task_s
-        );
+        say_fewer_tasks(&args, plan.len(), per_design_s, tasks);
     }
     write_scripts(&job, &scripts)?;
     let [(array, _), (merge, _), (submit, _)] = &scripts;
@@ -240,4 +233,13 @@ fn write_scripts(job: &ArrayJob, scripts: &[(PathBuf, String)]) -> Result<(), Cl
         write(path, text)?;
     }
     Ok(())
+}
+
+/// Why the array has fewer tasks than `--tasks` asked.
+fn say_fewer_tasks(args: &SlurmArgs, designs: usize, per_design_s: f64, tasks: usize) {
+    eprintln!(
+        "--tasks {}: {designs} designs of about {per_design_s:.1} s each on {} cpus a task make \
+         {tasks} task(s) of at least {} s of work (--min-task-s)",
+        args.tasks, args.cpus_per_task, args.min_task_s
+    );
 }

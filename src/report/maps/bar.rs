@@ -50,16 +50,7 @@ impl FieldMap {
         let (y_top, y_bottom) = rows;
         let height = (y_bottom - y_top).max(1) as f64;
         let y_of = |v: f64| y_bottom - ((v / top).clamp(0.0, 1.0) * height).round() as i32;
-        let span = self.colour_span();
-        // One band per pixel row, its colour that of the value at its middle.
-        for y in y_top..y_bottom {
-            let v = top * (y_bottom as f64 - y as f64 - 0.5) / height;
-            let c = colour_on(v, self.limit, span);
-            root.draw(&Rectangle::new(
-                [(x0, y), (x1, y + 1)],
-                RGBColor(c.0, c.1, c.2).filled(),
-            ))?;
-        }
+        self.draw_bands(root, (x0, x1), rows)?;
         root.draw(&Rectangle::new(
             [(x0, y_top), (x1, y_bottom)],
             ShapeStyle::from(BLACK).stroke_width(1),
@@ -121,6 +112,29 @@ impl FieldMap {
         }
         // The caption above the bar.
         self.draw_bar_caption(root, (x0 + x1) / 2, y_top)
+    }
+
+    /// The bar's colours: one band per pixel row between `x0` and `x1`, its colour that of the
+    /// value at its middle.
+    fn draw_bands(
+        &self,
+        root: &Area,
+        (x0, x1): (i32, i32),
+        rows: (i32, i32),
+    ) -> Result<(), PlotError> {
+        let top = self.scale_top();
+        let (y_top, y_bottom) = rows;
+        let height = (y_bottom - y_top).max(1) as f64;
+        let span = self.colour_span();
+        for y in y_top..y_bottom {
+            let v = top * (y_bottom as f64 - y as f64 - 0.5) / height;
+            let c = colour_on(v, self.limit, span);
+            root.draw(&Rectangle::new(
+                [(x0, y), (x1, y + 1)],
+                RGBColor(c.0, c.1, c.2).filled(),
+            ))?;
+        }
+        Ok(())
     }
 
     /// The bar's caption, centred on `x` above the bar's top row `y_top`.
