@@ -130,13 +130,11 @@ pub fn start_design_files(
     thread::Builder::new()
         .name("explorer-design-files".into())
         .spawn(move || {
-            let problem = scene.to_problem();
-            let start = std::time::Instant::now();
-            let result = crate::core::drawing::solve(&problem, &mut |_| {});
-            let wall_s = start.elapsed().as_secs_f64();
-            let mut summary = crate::summary::RunSummary::new(&design, &scene, &result, wall_s);
-            let written = crate::publish::write_run(&dir, &mut summary, &result, &problem.tooling)
-                .map_err(WorkError::from);
+            let mut drawn = crate::study::draw::draw(&design, &scene, &mut |_| {});
+            let tooling = &drawn.problem.tooling;
+            let written =
+                crate::publish::write_run(&dir, &mut drawn.summary, &drawn.result, tooling)
+                    .map_err(WorkError::from);
             let _ = tx.send(Message::Written {
                 design,
                 result: written,
