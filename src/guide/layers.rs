@@ -1,5 +1,6 @@
-//! The test of the layering that the architecture page states: no file of the library uses a
-//! module of a later layer, and no two files use each other. It reads the sources as text:
+//! The tests of the house rules that the architecture page states: no file of the library uses a
+//! module of a later layer, no two files use each other, no file is over 700 lines and no
+//! function over 80. The first reads the sources as text:
 //! each `crate::…`, `super::…` and `self::…` path outside comments and test modules, resolved
 //! to the file that defines it.
 
@@ -163,4 +164,68 @@ fn no_file_uses_a_later_layer_and_no_two_files_use_each_other() {
         edges.contains(&("scene/mod.rs".into(), "core/drawing/mod.rs".into())),
         "{edges:?}"
     );
+}
+
+/// The functions of a source longer than `most` lines (from `fn` to its closing brace at the
+/// same indentation), each as `name (lines)`.
+fn long_functions(text: &str, most: usize) -> Vec<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut long = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let body = line.trim_start();
+        let indent = &line[..line.len() - body.len()];
+        let head = ["pub fn ", "pub(crate) fn ", "pub(super) fn ", "fn "]
+            .iter()
+            .find_map(|p| body.strip_prefix(p));
+        let Some(name) = head.map(|h| h.split(['(', '<']).next().unwrap_or("")) else {
+            continue;
+        };
+        if body.ends_with(';') || (body.ends_with('}') && body.contains('{')) {
+            continue; // a declaration, or a one-line function
+        }
+        let close = format!("{indent}}}");
+        let end = (i..lines.len()).find(|&j| lines[j] == close);
+        if let Some(end) = end.filter(|&end| end - i + 1 > most) {
+            long.push(format!("{name} ({} lines)", end - i + 1));
+        }
+    }
+    long
+}
+
+#[test]
+fn no_file_over_700_lines_and_no_function_over_80() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut wrong = Vec::new();
+    let mut stack = vec![src.clone()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            if path.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            let name = path.strip_prefix(&src).unwrap().display().to_string();
+            let lines = text.lines().count();
+            if lines > 700 {
+                wrong.push(format!("{name}: {lines} lines"));
+            }
+            for f in long_functions(&text, 80) {
+                wrong.push(format!("{name}: fn {f}"));
+            }
+        }
+    }
+    wrong.sort();
+    assert!(
+        wrong.is_empty(),
+        "over the house's sizes:\n{}",
+        wrong.join("\n")
+    );
+    // The scan sees a long function when there is one.
+    let body = "    let x = 1;\n".repeat(81);
+    let long = format!("fn long() {{\n{body}}}\n");
+    assert_eq!(long_functions(&long, 80), ["long (83 lines)"]);
 }
