@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use wovenform::core::tools::intersect::self_intersection;
@@ -50,17 +50,7 @@ fn ascii(soup: &Soup) -> String {
     text + "endsolid part\n"
 }
 
-fn file(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, bytes).unwrap();
-    path
-}
-
-fn refusal(path: &Path) -> String {
-    common::stl_refusal(path)
-}
-
-use common::assert_says;
+use common::{assert_says, stl_refusal as refusal, write_file as file};
 
 #[test]
 fn what_is_not_a_regular_file_is_refused_without_reading_it() {

@@ -76,6 +76,13 @@ pub fn written_tools(
     (read("punch.stl"), read("die.stl"))
 }
 
+/// Writes `bytes` as `dir/name`; returns its path.
+pub fn write_file(dir: &Path, name: &str, bytes: &[u8]) -> std::path::PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
 /// The message of reading the STL at `path` as a tool, which must fail within 20 s (a file
 /// that blocks fails the test rather than hanging it), naming the file.
 pub fn stl_refusal(path: &Path) -> String {

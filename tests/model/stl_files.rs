@@ -3,8 +3,6 @@
 
 use crate::common;
 
-use std::path::{Path, PathBuf};
-
 use wovenform::core::tools::surface::TriSurface;
 use wovenform::core::tools::tessellate::tessellate;
 use wovenform::stl::{parse, read_soup, read_surface, to_binary, write_binary};
@@ -28,18 +26,7 @@ fn cube_ascii() -> String {
     text + "endsolid cube\n"
 }
 
-fn file(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, bytes).unwrap();
-    path
-}
-
-/// The message of reading `path`, which must fail; it names the file.
-fn refusal(path: &Path) -> String {
-    common::stl_refusal(path)
-}
-
-use common::assert_says;
+use common::{assert_says, stl_refusal as refusal, write_file as file};
 
 #[test]
 fn binary_round_trip_keeps_the_surface() {
