@@ -17,6 +17,13 @@
 //! The fine answer itself carries an error, so each band is wider than the distance to it, and
 //! the fine level's band is half the standard's.
 //!
+//! Re-measured on 2026-12-03 with the solver of that day (the yarn law's toe, steps of at most
+//! 1/20 of the stroke): over the 81 designs of `presets/paper-box-sweep.toml` the largest
+//! distances to fine were 3.32° (5/6/5, μ 0.15), 119 % and 7.3 % at coarse and 0.73°
+//! (5/15/10), 5.6 % and 2.4 % at standard; on 4/8/8, whose 4 mm radius scales the bands by
+//! 5/4, coarse lay 4.40° from fine, 3.52° once scaled back to 5 mm, so coarse's shear band
+//! went from ±3.5° to ±4°.
+//!
 //! Those designs' smallest radius is 5 mm or more. Below it the same element size resolves the
 //! radius less well: on three boxes with 2 and 3 mm radii (3/3/3, 2/4/2.5, 10/15/2) standard lay
 //! 0.85°, 1.27° and 1.25° from fine. So the bands grow as [`MEASURED_RADIUS_MM`] over the
@@ -118,7 +125,7 @@ impl Accuracy {
     pub fn error(self) -> ErrorEstimate {
         match self {
             Accuracy::Coarse => ErrorEstimate {
-                max_shear_deg: 3.5,
+                max_shear_deg: 4.0,
                 punch_force_pct: 15.0,
                 max_tension_pct: 160.0,
             },

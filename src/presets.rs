@@ -7,6 +7,9 @@
 pub const PAPER_BOX_OPEN: &str = include_str!("../presets/paper-box-open.toml");
 /// `presets/paper-box-tight.toml`: the paper's square box with the tight radii 5/6/5 mm.
 pub const PAPER_BOX_TIGHT: &str = include_str!("../presets/paper-box-tight.toml");
+/// `presets/box-with-shear.toml`: the open box in the glass fabric with its fitted shear law
+/// (the bias-extension benchmark's fabric, for `bench --scaling`).
+pub const BOX_WITH_SHEAR: &str = include_str!("../presets/box-with-shear.toml");
 /// `presets/paper-box-explorer.toml`: the explorer's default sweep (8 designs).
 pub const PAPER_BOX_EXPLORER: &str = include_str!("../presets/paper-box-explorer.toml");
 

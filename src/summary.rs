@@ -71,7 +71,7 @@ pub struct RunSummary {
     pub cutbacks: u32,
     pub newton_iterations: u32,
     /// Steps on which Newton stalled even at the smallest increment and that ended within ten
-    /// force tolerances of balance (`guide::accuracy`, "Where the fine level stalls").
+    /// force tolerances of balance (`RELAXED_TOLERANCE` in `core::solver`).
     pub relaxed_steps: u32,
     /// Work done by forces out of balance over the punch's work (dimensionless): what of the
     /// punch's work is not the paper's model. The stabilisation damps the Newton corrections

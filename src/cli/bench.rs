@@ -21,14 +21,29 @@ pub struct BenchArgs {
     /// tools: the open and tight box and the hemisphere, whole blank.
     #[arg(long)]
     pub mesh: bool,
+    /// Also measure what a finer answer costs: five designs of the paper's grid at fine over
+    /// standard, the long bias-extension specimen over the short one, the open box at fine on
+    /// one thread and on all (each run stopped after --deadline seconds; minutes in all).
+    #[arg(long)]
+    pub scaling: bool,
+    /// With --scaling: stop each run after this many seconds (a ratio is then a lower bound).
+    #[arg(long, default_value_t = 600.0, value_name = "S")]
+    pub deadline: f64,
 }
 
 /// `wovenform bench`: law and element throughput, one thread.
 pub fn exec(args: BenchArgs) -> Result<(), CliError> {
+    if !(args.deadline.is_finite() && args.deadline > 0.0) {
+        return Err(CliError::bad_input(format!(
+            "--deadline {}: expected a number of seconds above 0",
+            args.deadline
+        )));
+    }
     let options = b::BenchOptions {
         repetitions: usize::from(args.repetitions),
         friction: args.friction,
         mesh: args.mesh,
+        scaling: args.scaling.then_some(args.deadline),
     };
     let note = |what: &str| {
         if !args.json {

@@ -11,6 +11,8 @@
 //! force of a shear law from the energy balance `F dd = M(γ) A_c dγ + M(γ/2) A_h dγ/2`, with
 //! `A_c = W (H − 3W/2)` and `A_h = W²`.
 
+use std::ops::ControlFlow;
+
 use crate::core::law::{CellLaw, CellParams};
 use crate::core::mesh::Mesh;
 use crate::core::shear::ShearLaw;
@@ -206,6 +208,18 @@ impl BiasProblem {
     /// Pulls the specimen to the stroke in `points` equal increments, each solved from the
     /// last; `progress` receives the fraction of the stroke reached.
     pub fn solve(&self, progress: &mut dyn FnMut(f64)) -> Result<BiasResult, BiasError> {
+        self.solve_until(&mut |f| {
+            progress(f);
+            ControlFlow::Continue(())
+        })
+    }
+
+    /// [`BiasProblem::solve`], told the fraction of the stroke after every converged load step;
+    /// `ControlFlow::Break` stops the pull there (the curve so far, `Failure::Stopped`).
+    pub fn solve_until(
+        &self,
+        progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
+    ) -> Result<BiasResult, BiasError> {
         self.check()?;
         let mesh = specimen_mesh(self.length, self.width, self.element_size);
         let (fixed, pulled) = grip_dofs(&mesh, self.length);
@@ -241,6 +255,7 @@ impl BiasProblem {
                 grips: &grips,
                 from: d(k - 1),
                 to: d(k),
+                stroke: self.stroke,
             };
             // The secant predictor: the last increment again (a segment that fails from it is
             // solved again from the last converged state).
@@ -251,14 +266,15 @@ impl BiasProblem {
                 }
             }
             let mut solved = if k == 1 {
-                first_segment(&mut model, &options, &segment, &mut result)
+                first_segment(&mut model, &options, &segment, &mut result, progress)
             } else {
-                solve_segment(&mut model, &options, &segment, &mut result)
+                solve_segment(&mut model, &options, &segment, &mut result, progress)
             };
-            if solved.is_err() && u_before.is_some() {
+            let stopped = matches!(solved, Err(Failure::Stopped { .. }));
+            if solved.is_err() && !stopped && u_before.is_some() {
                 model.u = u_now.clone();
                 model.crimp = crimp_now;
-                solved = solve_segment(&mut model, &options, &segment, &mut result);
+                solved = solve_segment(&mut model, &options, &segment, &mut result, progress);
             }
             if let Err(failure) = solved {
                 result.failure = Some(failure);
@@ -266,7 +282,6 @@ impl BiasProblem {
             }
             u_before = Some(u_now);
             record(&mut model, &mut result, d(k), &pulled, &centre);
-            progress(k as f64 / points as f64);
         }
         result.positions = model.positions();
         result.shear_deg = model.shear_angles_deg();
@@ -301,12 +316,13 @@ fn first_segment(
     options: &SolverOptions,
     segment: &Segment<'_>,
     result: &mut BiasResult,
+    progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
 ) -> Result<(), Failure> {
     let (u_now, crimp_now) = (model.u.clone(), model.crimp.clone());
     let mut strict = options.clone();
     strict.max_steps = strict.max_steps.max(1500);
-    let first = solve_segment(model, &strict, segment, result);
-    if first.is_ok() {
+    let first = solve_segment(model, &strict, segment, result, progress);
+    if first.is_ok() || matches!(first, Err(Failure::Stopped { .. })) {
         return first;
     }
     model.u = u_now;
@@ -314,13 +330,14 @@ fn first_segment(
     let mut loose = options.clone();
     loose.tol_floor = 1e-5;
     loose.max_steps = loose.max_steps.max(5000);
-    solve_segment(model, &loose, segment, result)?;
+    solve_segment(model, &loose, segment, result, progress)?;
     let again = Segment {
         grips: segment.grips,
         from: segment.to,
         to: segment.to,
+        stroke: segment.stroke,
     };
-    solve_segment(model, options, &again, result)
+    solve_segment(model, options, &again, result, progress)
 }
 
 /// The pull force and the centre's mean shear of the converged state at grip displacement
@@ -347,10 +364,12 @@ fn solve_segment(
     options: &SolverOptions,
     segment: &Segment<'_>,
     result: &mut BiasResult,
+    progress: &mut dyn FnMut(f64) -> ControlFlow<()>,
 ) -> Result<(), Failure> {
     let mut solver = Solver::new(model, options.clone());
-    let solved = solver.solve(segment, &mut NoNodalTerms, &mut |_| {
-        std::ops::ControlFlow::Continue(())
+    let (from, to, stroke) = (segment.from, segment.to, segment.stroke);
+    let solved = solver.solve(segment, &mut NoNodalTerms, &mut |l| {
+        progress((from + l * (to - from)) / stroke)
     });
     result.newton_iterations += solver.stats.newton_iterations;
     solved
@@ -362,6 +381,8 @@ struct Segment<'a> {
     grips: &'a LinearPrescribed,
     from: f64,
     to: f64,
+    /// The whole pull, mm (for the progress's fraction).
+    stroke: f64,
 }
 
 impl Prescribed for Segment<'_> {

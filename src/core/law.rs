@@ -91,6 +91,9 @@ pub struct CellLaw {
     inv_len0: [f64; 2],
     /// `e01 + e02`, mm.
     h_total: f64,
+    /// The width of the toe rounding the slack/taut kink, as a yarn strain ([`crate::core::toe`];
+    /// 0: the paper's kink).
+    toe: f64,
 }
 
 /// One yarn's force components and their partial derivatives at a given `(h, L)`.
@@ -120,12 +123,20 @@ impl CellLaw {
             shear: None,
             inv_len0: [1.0 / len0(0), 1.0 / len0(1)],
             h_total: p.e0[0] + p.e0[1],
+            toe: 0.0,
         }
     }
 
     /// The same cell with the in-plane shear law `shear` (or none).
     pub fn with_shear(mut self, shear: Option<crate::core::shear::ShearLaw>) -> Self {
         self.shear = shear;
+        self
+    }
+
+    /// The same cell with the slack/taut kink rounded over a yarn strain `toe`
+    /// ([`crate::core::toe`]; 0 keeps the paper's kink).
+    pub fn with_toe(mut self, toe: f64) -> Self {
+        self.toe = toe.max(0.0);
         self
     }
 
@@ -146,6 +157,9 @@ impl CellLaw {
             return Yarn::default();
         }
         let c = self.p.c[a];
+        if self.toe > 0.0 {
+            return self.yarn_on_toe(a, h, l, len);
+        }
         let il3 = 1.0 / (len2 * len);
         Yarn {
             v: 2.0 * c * h * q,
@@ -154,6 +168,25 @@ impl CellLaw {
             v_l: 2.0 * c * h * l * il3,
             t_h: 4.0 * c * l * h * il3,
             t_l: c * (q + l * l * il3),
+        }
+    }
+
+    /// [`CellLaw::yarn`] with the kink rounded: the yarn force `c φ(s)` at its strain
+    /// `s = len/ℓ0 − 1`, written as `q = φ/len` in place of `1/ℓ0 − 1/len`.
+    fn yarn_on_toe(&self, a: usize, h: f64, l: f64, len: f64) -> Yarn {
+        let c = self.p.c[a];
+        let (phi, dphi) = crate::core::toe::phi(len * self.inv_len0[a] - 1.0, self.toe);
+        let q = phi / len;
+        // dq/dlen, and through len = √(4h² + l²) its partials in h and l.
+        let dq = (dphi * self.inv_len0[a] - q) / len;
+        let (q_h, q_l) = (dq * 4.0 * h / len, dq * l / len);
+        Yarn {
+            v: 2.0 * c * h * q,
+            t: c * l * q,
+            v_h: 2.0 * c * (q + h * q_h),
+            v_l: 2.0 * c * h * q_l,
+            t_h: c * l * q_h,
+            t_l: c * (q + l * q_l),
         }
     }
 
@@ -442,7 +475,11 @@ impl CellLaw {
         for a in 0..2 {
             // At exactly zero strain the taut side's slope is the tangent: an unstrained yarn
             // (the initial state) resists stretching, and the solver must see it.
-            if eps[a] >= 0.0 {
+            if self.toe > 0.0 {
+                let (phi, dphi) = crate::core::toe::phi(eps[a], self.toe);
+                r.t[a] = self.p.c[a] * phi;
+                r.dt[a][a] = self.p.c[a] * dphi;
+            } else if eps[a] >= 0.0 {
                 r.t[a] = self.p.c[a] * eps[a];
                 r.dt[a][a] = self.p.c[a];
             }
@@ -450,11 +487,21 @@ impl CellLaw {
         r
     }
 
+    /// Yarn α's energy over length `len0` at strain `s`, N·mm: `C len0 max(s, 0)²/2`, or on
+    /// the toe `C len0 Φ(s)` ([`crate::core::toe::energy`]).
+    fn yarn_energy(&self, a: usize, len0: f64, s: f64) -> f64 {
+        if self.toe > 0.0 {
+            self.p.c[a] * len0 * crate::core::toe::energy(s, self.toe)
+        } else {
+            0.5 * self.p.c[a] * len0 * s.max(0.0).powi(2)
+        }
+    }
+
     /// Stored energy of one cell at a solved state (N·mm); `∂W/∂εα = L0α Tαα`.
     pub fn energy(&self, eps: [f64; 2], state: CrimpState) -> f64 {
         if !self.p.undulation {
             return (0..2)
-                .map(|a| 0.5 * self.p.c[a] * self.p.l0[a] * eps[a].max(0.0).powi(2))
+                .map(|a| self.yarn_energy(a, self.p.l0[a], eps[a]))
                 .sum();
         }
         let l = [self.p.l0[0] * (1.0 + eps[0]), self.p.l0[1] * (1.0 + eps[1])];
@@ -462,8 +509,13 @@ impl CellLaw {
         let mut w = 0.0;
         for a in 0..2 {
             let len = (4.0 * h[a] * h[a] + l[a] * l[a]).sqrt();
-            let strain = (len * self.inv_len0[a] - 1.0).max(0.0);
-            w += 0.5 * self.p.c[a] / self.inv_len0[a] * strain * strain;
+            let strain = len * self.inv_len0[a] - 1.0;
+            if self.toe > 0.0 {
+                w += self.yarn_energy(a, 1.0 / self.inv_len0[a], strain);
+            } else {
+                let strain = strain.max(0.0);
+                w += 0.5 * self.p.c[a] / self.inv_len0[a] * strain * strain;
+            }
         }
         // Φ(s) = ∫0^s −ln(1 − t/A)/B dt.
         let (a, b, s) = (self.p.a, self.p.b, state.s);

@@ -63,6 +63,13 @@ pub struct SolveInfo {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NotFactorizable;
 
+/// The scratch memory a numeric factorization and a one-column solve need at `par`.
+fn scratch(symbolic: &SymbolicCholesky<usize>, par: Par) -> faer::dyn_stack::StackReq {
+    symbolic
+        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+        .or(symbolic.solve_in_place_scratch::<f64>(1, par))
+}
+
 /// A sparse Cholesky solver bound to one pattern.
 ///
 /// The fill-reducing ordering (AMD) is applied once, to the pattern: the matrix is stored as the
@@ -83,6 +90,8 @@ pub struct SparseCholesky {
     diag: Vec<usize>,
     permuted_rhs: Vec<f64>,
     mem: MemBuffer,
+    /// The factorization's and the solves' parallelism (sequential unless asked).
+    par: Par,
 }
 
 impl SparseCholesky {
@@ -142,10 +151,7 @@ impl SparseCholesky {
             },
         )
         .expect("symbolic Cholesky analysis of the permuted pattern");
-        let par = Par::Seq;
-        let req = symbolic
-            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-            .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+        let req = scratch(&symbolic, Par::Seq);
         let l_values = vec![0.0; symbolic.len_val()];
         // The diagonal leads each column of a lower triangle.
         let diag = col_ptr[..n].to_vec();
@@ -160,7 +166,20 @@ impl SparseCholesky {
             l_values,
             diag,
             mem: MemBuffer::new(req),
+            par: Par::Seq,
         }
+    }
+
+    /// Factorize and solve on up to `threads` threads of rayon's pool (1: sequential). The
+    /// supernodal factorization splits the elimination tree's independent branches and the
+    /// dense updates of the large supernodes; the result is the same to round-off.
+    pub fn set_threads(&mut self, threads: usize) {
+        self.par = if threads <= 1 {
+            Par::Seq
+        } else {
+            Par::rayon(threads)
+        };
+        self.mem = MemBuffer::new(scratch(&self.symbolic, self.par));
     }
 
     /// Equations.
@@ -239,7 +258,7 @@ impl SparseCholesky {
                 a,
                 Side::Lower,
                 LltRegularization::default(),
-                Par::Seq,
+                self.par,
                 stack,
                 Default::default(),
             )
@@ -291,7 +310,7 @@ impl SparseCholesky {
         let stack = MemStack::new(&mut self.mem);
         let n = rhs.len();
         let x = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, n, 1);
-        llt.solve_in_place_with_conj(Conj::No, x, Par::Seq, stack);
+        llt.solve_in_place_with_conj(Conj::No, x, self.par, stack);
         for (i, v) in rhs.iter_mut().enumerate() {
             *v = self.permuted_rhs[self.new[i]];
         }

@@ -15,4 +15,5 @@ pub mod linear;
 pub mod mesh;
 pub mod shear;
 pub mod solver;
+pub mod toe;
 pub mod tools;

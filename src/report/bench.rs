@@ -2,7 +2,50 @@
 
 use std::fmt::Write as _;
 
-use crate::study::bench::{BoxRun, Measured};
+use crate::study::bench::{BoxRun, Measured, Scaling};
+use crate::study::scaling::Timed;
+
+/// The targets the ratios are judged against (issue 26): bare factorizations of the open box
+/// at standard, fine over standard wall time, the ladder's exponent, the long bias specimen
+/// over the short one.
+pub const TARGET_OPEN_BOX_FACTORIZATIONS: f64 = 190.0;
+pub const TARGET_FINE_OVER_STANDARD: f64 = 6.0;
+pub const TARGET_DOF_EXPONENT: f64 = 1.25;
+pub const TARGET_BIAS_LONG_OVER_SHORT: f64 = 5.0;
+
+fn timed_json(t: &Timed) -> serde_json::Value {
+    serde_json::json!({
+        "wall_s": t.wall_s, "dofs": t.dofs, "steps": t.steps,
+        "newton_iterations": t.newton_iterations, "finished": t.finished, "failure": t.failure,
+    })
+}
+
+fn scaling_json(s: &Scaling) -> serde_json::Value {
+    let bias = match &s.bias {
+        Ok([short, long]) => serde_json::json!({
+            "short": timed_json(short), "long": timed_json(long),
+            "long_over_short": long.wall_s / short.wall_s,
+            "target": TARGET_BIAS_LONG_OVER_SHORT,
+        }),
+        Err(e) => serde_json::json!({"failure": e}),
+    };
+    let [one, assembly, all] = &s.open_fine;
+    serde_json::json!({
+        "deadline_s": s.deadline_s,
+        "fine_over_standard": s.designs.iter().map(|d| serde_json::json!({
+            "name": d.name, "standard": timed_json(&d.standard), "fine": timed_json(&d.fine),
+            "wall_ratio": d.wall_ratio(), "step_ratio": d.step_ratio(),
+            "target": TARGET_FINE_OVER_STANDARD,
+        })).collect::<Vec<_>>(),
+        "bias_long_over_short": bias,
+        "open_box_fine_one_thread": timed_json(one),
+        "open_box_fine_parallel_assembly": timed_json(assembly),
+        "open_box_fine_parallel_assembly_and_factorization": timed_json(all),
+        "threads": s.threads,
+        "open_box_fine_speedup_assembly": one.wall_s / assembly.wall_s,
+        "open_box_fine_speedup_assembly_and_factorization": one.wall_s / all.wall_s,
+    })
+}
 
 fn run_json(name: &str, r: &BoxRun) -> serde_json::Value {
     serde_json::json!({
@@ -45,6 +88,10 @@ impl Measured {
             "open_box_krylov_iterations": open.krylov_iterations,
             "newton_iteration_s": open.iteration_s(),
             "bare_factor_solve_s": open.bare_factor_solve_s,
+            "open_box_bare_factorizations": open.wall_s / open.bare_factor_solve_s,
+            "open_box_bare_factorizations_target": TARGET_OPEN_BOX_FACTORIZATIONS,
+            "wall_dof_exponent_target": TARGET_DOF_EXPONENT,
+            "scaling": self.scaling.as_ref().map(scaling_json),
             "iteration_over_factor_solve": open.iteration_over_factor_solve(),
             "tight_box_standard_wall_s": self.drawings.tight.wall_s,
             "open_box_friction_0_05_wall_s": self.drawings.open_low_friction.wall_s,
@@ -103,6 +150,9 @@ impl Measured {
         self.write_iteration(&mut out);
         self.write_friction(&mut out);
         self.write_mesh(&mut out);
+        if let Some(s) = &self.scaling {
+            write_scaling(s, &mut out);
+        }
         out
     }
 
@@ -128,6 +178,12 @@ impl Measured {
         );
         let _ = writeln!(
             out,
+            "{:<48} {:>12.0}   (the open box's whole run over a bare factorization + solve; target ≤ {TARGET_OPEN_BOX_FACTORIZATIONS:.0})",
+            "open box at standard, in bare factorizations",
+            open.wall_s / open.bare_factor_solve_s
+        );
+        let _ = writeln!(
+            out,
             "{:<48} {:>12.3} ms  (shear and tension over one woven cell, on the final state; {:.2} % of the run)",
             "peaks over a cell",
             ms(open.cell_peaks_s),
@@ -140,7 +196,7 @@ impl Measured {
             .collect();
         let _ = writeln!(
             out,
-            "{:<48} {:>12.2}   ({})",
+            "{:<48} {:>12.2}   (target ≤ {TARGET_DOF_EXPONENT}; {})",
             "wall time ∝ dofs^k, k =",
             self.exponent,
             pts.join(", ")
@@ -235,4 +291,74 @@ impl Measured {
             };
         }
     }
+}
+
+/// A timed run as `12.3 s (steps/Newton)`, or what stopped it.
+fn timed_text(t: &Timed) -> String {
+    let base = format!("{:.1} s ({}/{})", t.wall_s, t.steps, t.newton_iterations);
+    match (&t.failure, t.finished) {
+        (_, true) => base,
+        (Some(f), false) => format!("{base}, not finished: {f}"),
+        (None, false) => format!("{base}, not finished"),
+    }
+}
+
+/// What a finer answer costs, when measured.
+fn write_scaling(s: &Scaling, out: &mut String) {
+    let _ = writeln!(
+        out,
+        "\nwhat a finer answer costs (one thread; a run stopped at {:.0} s gives a lower bound, ≥):",
+        s.deadline_s
+    );
+    let _ = writeln!(
+        out,
+        "  {:<24} {:>26} {:>34} {:>8} {:>8}",
+        "design (r/rp/rm)",
+        "standard s (steps/Newton)",
+        "fine s (steps/Newton)",
+        "wall ×",
+        "steps ×"
+    );
+    for d in &s.designs {
+        let bound = if d.fine.finished { "" } else { "≥" };
+        let _ = writeln!(
+            out,
+            "  {:<24} {:>26} {:>34} {:>8} {:>8.2}",
+            d.name,
+            timed_text(&d.standard),
+            timed_text(&d.fine),
+            format!("{bound}{:.1}", d.wall_ratio()),
+            d.step_ratio()
+        );
+    }
+    let _ = writeln!(
+        out,
+        "  (target: fine ≤ {TARGET_FINE_OVER_STANDARD}× standard's wall time)"
+    );
+    match &s.bias {
+        Ok([short, long]) => {
+            let bound = if long.finished { "" } else { "≥" };
+            let _ = writeln!(
+                out,
+                "  bias extension, 450 × 150 mm to 105 mm over 300 × 150 mm to 55 mm: {bound}{:.1}× ({} against {}; target ≤ {TARGET_BIAS_LONG_OVER_SHORT}×)",
+                long.wall_s / short.wall_s,
+                timed_text(long),
+                timed_text(short)
+            );
+        }
+        Err(e) => {
+            let _ = writeln!(out, "  bias extension: {e}");
+        }
+    }
+    let [one, assembly, all] = &s.open_fine;
+    let _ = writeln!(
+        out,
+        "  open box at fine: {} on one thread; on {} threads, {} assembling (speed-up {:.2}), {} assembling and factorizing (speed-up {:.2})",
+        timed_text(one),
+        s.threads,
+        timed_text(assembly),
+        one.wall_s / assembly.wall_s,
+        timed_text(all),
+        one.wall_s / all.wall_s
+    );
 }

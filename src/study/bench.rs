@@ -146,6 +146,9 @@ pub struct BenchOptions {
     pub friction: bool,
     /// Also time tools read from STL against the same analytic tools.
     pub mesh: bool,
+    /// Also measure the cost of a finer answer ([`crate::study::scaling`]), each run stopped
+    /// after this many seconds.
+    pub scaling: Option<f64>,
 }
 
 /// Everything one `bench` measured.
@@ -165,6 +168,20 @@ pub struct Measured {
     pub friction: Vec<(String, Result<BoxRun, String>)>,
     /// STL tools against analytic ones (empty unless asked for).
     pub mesh: Vec<Result<crate::study::mesh_bench::MeshRun, String>>,
+    /// The cost of a finer answer (unless not asked for).
+    pub scaling: Option<Scaling>,
+}
+
+/// What a finer answer costs: fine over standard on designs of the grid, the long bias
+/// specimen over the short one, the open box at fine on one thread and on the pool.
+pub struct Scaling {
+    pub deadline_s: f64,
+    pub designs: Vec<crate::study::scaling::FineOverStandard>,
+    pub bias: Result<[crate::study::scaling::Timed; 2], String>,
+    /// The open box at fine: one thread, the assembly on the pool's threads, the assembly and
+    /// the factorization on them (and how many there are).
+    pub open_fine: [crate::study::scaling::Timed; 3],
+    pub threads: usize,
 }
 
 /// Measures everything `o` asks for; `note(what)` hears each measurement start. An error names
@@ -195,6 +212,27 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
         note("STL tools against the analytic ones (open box, tight box, hemisphere)");
         mesh = crate::study::mesh_bench::mesh_tools(box_reps.min(3));
     }
+    let scaling = o.scaling.map(|deadline_s| {
+        note("the open box at fine on one thread, assembling on all, and factorizing on all too");
+        let one = crate::study::scaling::timed_drawing(&paper_box(1.25), deadline_s);
+        let mut p = paper_box(1.25);
+        p.solver.parallel = true;
+        let assembly = crate::study::scaling::timed_drawing(&p, deadline_s);
+        p.solver.factor_threads = 0;
+        let all = crate::study::scaling::timed_drawing(&p, deadline_s);
+        note("designs of the grid at standard and fine");
+        let designs = crate::study::scaling::fine_over_standard(deadline_s, &|name| {
+            note(&format!("  {name}"))
+        });
+        note("the bias-extension test, 300 × 150 mm to 55 mm and 450 × 150 mm to 105 mm");
+        Scaling {
+            deadline_s,
+            designs,
+            bias: crate::study::scaling::bias_pair(deadline_s),
+            open_fine: [one, assembly, all],
+            threads: rayon::current_num_threads(),
+        }
+    });
     let drawings = Drawings {
         open,
         tight,
@@ -211,6 +249,7 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
         sweep_per_min,
         friction,
         mesh,
+        scaling,
     })
 }
 

@@ -7,6 +7,7 @@ pub mod draw;
 pub mod estimate;
 pub mod fit;
 pub mod mesh_bench;
+pub mod scaling;
 pub mod slurm;
 pub mod sweep;
 pub mod tessellation;

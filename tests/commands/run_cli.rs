@@ -340,7 +340,7 @@ fn exit_code_follows_the_outcome() {
             "--set",
             "numerics.stabilisation=0",
             "--set",
-            "process.stroke=1",
+            "process.stroke=2",
             "--out",
             &out("free"),
         ],

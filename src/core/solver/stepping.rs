@@ -165,12 +165,12 @@ impl Solver<'_> {
             self.model.set_free_positions(&x);
         }
         let mut history = History::default();
-        let mut iterations = self.newton(target, terms, &attempt.u_start, false, &mut history)?;
+        let mut iterations = self.newton(target, terms, false, &mut history)?;
         for _ in 0..self.options.max_lag_passes {
             if !terms.relag(target, &self.model.positions()) {
                 break;
             }
-            let more = self.newton(target, terms, &attempt.u_start, true, &mut history)?;
+            let more = self.newton(target, terms, true, &mut history)?;
             iterations += more;
             if more == 0 {
                 break;
@@ -210,11 +210,23 @@ impl Solver<'_> {
         du
     }
 
-    /// The next load increment after one that took `iterations` Newton iterations: scaled by
-    /// the target over the iterations taken, at most doubled or halved.
+    /// The next load increment after one that took `iterations` Newton iterations (`n` the
+    /// target): doubled up to `n/2`, grown by a quarter up to `n`, kept up to `3n/2`, cut by
+    /// 30 % beyond; never above `max_step`. A step that Newton needs many iterations for is
+    /// not made much smaller: on a fine mesh the iterations hardly fall with the increment (the
+    /// slack fabric's mechanisms, not the load, set them), and shrinking it only multiplied the
+    /// steps. A failed step is cut by 4 (`solve`).
     fn next_step(&self, step: f64, iterations: u32) -> f64 {
-        let target = self.options.target_iterations as f64;
-        let factor = (target / iterations.max(1) as f64).clamp(0.5, 2.0);
+        let n = self.options.target_iterations.max(2);
+        let factor = if iterations <= n / 2 {
+            2.0
+        } else if iterations <= n {
+            1.25
+        } else if iterations <= n + n / 2 {
+            1.0
+        } else {
+            0.7
+        };
         (step * factor).min(self.options.max_step)
     }
 
