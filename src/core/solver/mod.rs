@@ -50,8 +50,6 @@ pub struct SolverOptions {
     pub max_iterations: u32,
     /// Force residual tolerance, relative to the load scale.
     pub tol_force: f64,
-    /// Displacement correction tolerance, relative to the element size.
-    pub tol_displacement: f64,
     /// The floor of the force tolerance, as a yarn strain (times the yarn stiffness C).
     pub tol_floor: f64,
     /// Pseudo-transient stabilisation `κ` of the Newton corrections (dimensionless; 0 turns it
@@ -87,7 +85,6 @@ impl Default for SolverOptions {
             max_steps: 1000,
             max_iterations: 25,
             tol_force: 1e-6,
-            tol_displacement: 1e-6,
             tol_floor: 1e-7,
             stabilisation: 1e-4,
             exact_jacobian: true,
