@@ -336,11 +336,18 @@ fn write_scaling(s: &Scaling, out: &mut String) {
         "  (target: fine ≤ {TARGET_FINE_OVER_STANDARD}× standard's wall time)"
     );
     match &s.bias {
+        Ok([short, _]) if !short.finished => {
+            let _ = writeln!(
+                out,
+                "  bias extension: the 300 × 150 mm specimen did not finish within the deadline ({}): no ratio",
+                timed_text(short)
+            );
+        }
         Ok([short, long]) => {
             let bound = if long.finished { "" } else { "≥" };
             let _ = writeln!(
                 out,
-                "  bias extension, 450 × 150 mm to 105 mm over 300 × 150 mm to 55 mm: {bound}{:.1}× ({} against {}; target ≤ {TARGET_BIAS_LONG_OVER_SHORT}×)",
+                "  bias extension, 450 × 150 mm to 105 mm over 300 × 150 mm to 55 mm: {bound}{:.1}× ({} against {}, points/Newton; target ≤ {TARGET_BIAS_LONG_OVER_SHORT}×)",
                 long.wall_s / short.wall_s,
                 timed_text(long),
                 timed_text(short)

@@ -42,6 +42,8 @@ pub const DESIGNS: [(&str, &[&str]); 5] = [
 pub struct Timed {
     pub wall_s: f64,
     pub dofs: usize,
+    /// Load steps (for the bias-extension test: the points of its curve reached, each solved
+    /// as a load path of its own).
     pub steps: u32,
     pub newton_iterations: u32,
     /// Reached the end (the full stroke) before the deadline and without failing.
@@ -141,7 +143,7 @@ pub fn bias_pair(deadline_s: f64) -> Result<[Timed; 2], String> {
         Ok(Timed {
             wall_s: start.elapsed().as_secs_f64(),
             dofs: 2 * r.mesh.nodes.len(),
-            steps: 0,
+            steps: r.displacement_mm.len().saturating_sub(1) as u32,
             newton_iterations: r.newton_iterations,
             finished: r.failure.is_none(),
             failure: r.failure.map(|f| f.to_string()),
