@@ -351,6 +351,13 @@ mod tests {
         (chol, values)
     }
 
+    fn max_abs_difference(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    }
+
     #[test]
     fn two_threads_solve_the_system_as_one_does() {
         let (mut chol, values) = grid_matrix(40);
@@ -365,17 +372,9 @@ mod tests {
         let mut kx = vec![0.0; n];
         let mut scratch = Vec::new();
         chol.mul(&values, &two, &mut kx, &mut scratch);
-        let residual = kx
-            .iter()
-            .zip(&rhs)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let residual = max_abs_difference(&kx, &rhs);
         assert!(residual < 1e-10, "{residual}");
-        let apart = one
-            .iter()
-            .zip(&two)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let apart = max_abs_difference(&one, &two);
         assert!(apart < 1e-12, "{apart}");
     }
 }

@@ -72,16 +72,19 @@ impl FineOverStandard {
     }
 }
 
+/// Go on while less than `deadline_s` has passed since `start`.
+fn until(start: Instant, deadline_s: f64) -> ControlFlow<()> {
+    if start.elapsed().as_secs_f64() > deadline_s {
+        ControlFlow::Break(())
+    } else {
+        ControlFlow::Continue(())
+    }
+}
+
 /// A drawing run on one thread, stopped after `deadline_s`.
 pub fn timed_drawing(p: &crate::core::drawing::DrawingProblem, deadline_s: f64) -> Timed {
     let start = Instant::now();
-    let r = crate::core::drawing::solve_until(p, &mut |_| {
-        if start.elapsed().as_secs_f64() > deadline_s {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    });
+    let r = crate::core::drawing::solve_until(p, &mut |_| until(start, deadline_s));
     Timed {
         wall_s: start.elapsed().as_secs_f64(),
         dofs: r.dofs,
@@ -132,13 +135,7 @@ pub fn bias_pair(deadline_s: f64) -> Result<[Timed; 2], String> {
         problem.solver.parallel = false;
         let start = Instant::now();
         let r = problem
-            .solve_until(&mut |_| {
-                if start.elapsed().as_secs_f64() > deadline_s {
-                    ControlFlow::Break(())
-                } else {
-                    ControlFlow::Continue(())
-                }
-            })
+            .solve_until(&mut |_| until(start, deadline_s))
             .map_err(|e| e.to_string())?;
         Ok(Timed {
             wall_s: start.elapsed().as_secs_f64(),
