@@ -105,6 +105,7 @@ pub fn bias_problem(
         element_size,
         points,
         solver: p.solver,
+        toe_strain: crate::core::bias::BIAS_TOE_STRAIN,
     };
     problem.check().map_err(|e| {
         bad(

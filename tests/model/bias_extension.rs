@@ -39,6 +39,7 @@ fn problem(c: f64, undulation: bool, k: [f64; 3]) -> BiasProblem {
         element_size: 5.0,
         points: 10,
         solver: SolverOptions::default(),
+        toe_strain: wovenform::core::bias::BIAS_TOE_STRAIN,
     }
 }
 
@@ -71,6 +72,37 @@ fn with_taut_stiff_yarns_the_centre_shears_as_the_ideal_kinematics() {
             "d {d}: force {f:.4} N against {fi:.4} N"
         );
     }
+}
+
+#[test]
+fn the_toe_moves_the_curve_by_a_fraction_of_its_departure_from_the_ideal() {
+    // The paper's kink (toe 0) is the reference: the toe only smooths where yarns go taut.
+    let toe = problem(38000.0, true, [0.08, 0.0, 0.3])
+        .solve(&mut |_| {})
+        .unwrap();
+    let mut on_kink = problem(38000.0, true, [0.08, 0.0, 0.3]);
+    on_kink.toe_strain = 0.0;
+    let kink = on_kink.solve(&mut |_| {}).unwrap();
+    assert!(toe.failure.is_none() && kink.failure.is_none());
+    for i in 1..kink.force_n.len() {
+        let (g, g0) = (toe.shear_centre_deg[i], kink.shear_centre_deg[i]);
+        let (f, f0) = (toe.force_n[i], kink.force_n[i]);
+        assert!(
+            (g - g0).abs() < 0.1,
+            "point {i}: {g:.3}° against {g0:.3}° on the kink"
+        );
+        assert!(
+            (f / f0 - 1.0).abs() < 0.01,
+            "point {i}: {f:.3} N against {f0:.3} N"
+        );
+    }
+    // And it is why the test is fast: far fewer Newton iterations than on the kink.
+    assert!(
+        toe.newton_iterations < kink.newton_iterations,
+        "{} against {}",
+        toe.newton_iterations,
+        kink.newton_iterations
+    );
 }
 
 #[test]

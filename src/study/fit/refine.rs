@@ -92,6 +92,7 @@ pub fn refine(
         element_size,
         points: FE_POINTS,
         solver: scene.to_problem().solver,
+        toe_strain: crate::core::bias::BIAS_TOE_STRAIN,
     };
     let mut fit = ideal.clone();
     let mut pass = 0;
