@@ -7,6 +7,7 @@
 
 mod bench;
 mod bias;
+mod cantilever;
 mod converge;
 mod error;
 mod fit;
@@ -59,6 +60,10 @@ pub enum Command {
     /// numerics are used too): an H × W specimen, yarns at ±45°, pulled by D mm; writes
     /// bias.csv, bias.png and the shear map.
     Bias(bias::BiasArgs),
+    /// The heavy cantilever of a scene's fabric (with `fabric.bending_rigidity` and
+    /// `fabric.areal_mass`): a strip bent by its own weight (Peirce; ASTM D1388); the tip's
+    /// deflection and angles and the rigidity Peirce's formula reads from them.
+    Cantilever(cantilever::CantileverArgs),
     /// Measure throughput on this machine (one thread; medians of several repetitions).
     Bench(bench::BenchArgs),
     /// Solve a scene on a ladder of mesh sizes and of load-step counts: each rung's error
@@ -86,6 +91,7 @@ pub fn exec(cli: Cli) -> Result<(), CliError> {
         Some(Command::Law(args)) => law::exec(args),
         Some(Command::Fit(args)) => fit::exec(args),
         Some(Command::Bias(args)) => bias::exec(args),
+        Some(Command::Cantilever(args)) => cantilever::exec(args),
         Some(Command::Bench(args)) => bench::exec(args),
         Some(Command::Tools(args)) => tools::exec(args),
         Some(Command::Slurm(args)) => slurm::exec(args),

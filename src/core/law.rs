@@ -94,6 +94,9 @@ pub struct CellLaw {
     /// The width of the toe rounding the slack/taut kink, as a yarn strain ([`crate::core::toe`];
     /// 0: the paper's kink).
     toe: f64,
+    /// Each yarn's stiffness in compression as a fraction of `C` (0: the paper's yarns, which
+    /// shorten for free; the linear law only).
+    compression: [f64; 2],
 }
 
 /// One yarn's force components and their partial derivatives at a given `(h, L)`.
@@ -124,7 +127,21 @@ impl CellLaw {
             inv_len0: [1.0 / len0(0), 1.0 / len0(1)],
             h_total: p.e0[0] + p.e0[1],
             toe: 0.0,
+            compression: [0.0; 2],
         }
+    }
+
+    /// The same cell with yarns that resist compression with the stiffness `fraction · C`
+    /// (per yarn; [`crate::core::toe::phi_compressive`]). The linear law only: the woven law's
+    /// crimp interchange has no compressive branch.
+    pub fn with_compression(mut self, fraction: [f64; 2]) -> Self {
+        self.compression = fraction.map(|f| f.max(0.0));
+        self
+    }
+
+    /// The yarns' compressive stiffness, as fractions of `C`.
+    pub fn compression(&self) -> [f64; 2] {
+        self.compression
     }
 
     /// The same cell with the in-plane shear law `shear` (or none).
@@ -475,7 +492,12 @@ impl CellLaw {
         for a in 0..2 {
             // At exactly zero strain the taut side's slope is the tangent: an unstrained yarn
             // (the initial state) resists stretching, and the solver must see it.
-            if self.toe > 0.0 {
+            if self.compression[a] > 0.0 {
+                let rc = self.compression[a];
+                let (phi, dphi) = crate::core::toe::phi_compressive(eps[a], self.toe, rc);
+                r.t[a] = self.p.c[a] * phi;
+                r.dt[a][a] = self.p.c[a] * dphi;
+            } else if self.toe > 0.0 {
                 let (phi, dphi) = crate::core::toe::phi(eps[a], self.toe);
                 r.t[a] = self.p.c[a] * phi;
                 r.dt[a][a] = self.p.c[a] * dphi;
@@ -490,7 +512,10 @@ impl CellLaw {
     /// Yarn α's energy over length `len0` at strain `s`, N·mm: `C len0 max(s, 0)²/2`, or on
     /// the toe `C len0 Φ(s)` ([`crate::core::toe::energy`]).
     fn yarn_energy(&self, a: usize, len0: f64, s: f64) -> f64 {
-        if self.toe > 0.0 {
+        if self.compression[a] > 0.0 {
+            let rc = self.compression[a];
+            self.p.c[a] * len0 * crate::core::toe::energy_compressive(s, self.toe, rc)
+        } else if self.toe > 0.0 {
             self.p.c[a] * len0 * crate::core::toe::energy(s, self.toe)
         } else {
             0.5 * self.p.c[a] * len0 * s.max(0.0).powi(2)

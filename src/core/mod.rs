@@ -6,10 +6,13 @@
 // Index loops mirror the paper's index notation (α, β, k, m); keep them.
 #![allow(clippy::needless_range_loop)]
 
+pub mod bending;
 pub mod bias;
+pub mod cantilever;
 pub mod contact;
 pub mod drawing;
 pub mod element;
+pub mod euler_strip;
 pub mod law;
 pub mod linear;
 pub mod mesh;

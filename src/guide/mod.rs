@@ -11,6 +11,7 @@
 //! - [`sweeps`]: grids of designs, resume, shards, `merge` and Slurm.
 //! - [`stl_tools`]: a punch and die of your own from STL files; the `tools` command.
 //! - [`shear_law`]: the in-plane shear law, the bias-extension test and its fit; `fit`.
+//! - [`bending`]: bending stiffness (beyond the paper) and the heavy cantilever; `cantilever`.
 //! - [`accuracy`]: accuracy levels, error bands, MARGINAL, `converge` and `bench`.
 //! - [`theory`]: the model — the woven-cell law, the membrane element, contact, the solver.
 //! - [`verification`]: the checks with answers from outside the code.
@@ -33,6 +34,9 @@ pub mod stl_tools {}
 
 #[doc = include_str!("shear_law.md")]
 pub mod shear_law {}
+
+#[doc = include_str!("bending.md")]
+pub mod bending {}
 
 #[doc = include_str!("accuracy.md")]
 pub mod accuracy {}
@@ -203,6 +207,9 @@ mod tests {
         let mut full = Scene::default();
         full.fabric.shear_moment = Some([0.0; 3]);
         full.fabric.shear_locking = true;
+        full.fabric.bending_rigidity = Some([0.0; 2]);
+        full.fabric.compressive_stiffness = Some([0.0; 2]);
+        full.fabric.areal_mass = Some(0.0);
         let mut flat = BTreeMap::new();
         flatten("", &toml::Table::try_from(&full).unwrap(), &mut flat);
         for k in flat.into_keys() {

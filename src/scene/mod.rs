@@ -175,6 +175,7 @@ impl Scene {
             }
         });
         p.yarn_angle_deg = self.fabric.yarn_angle_deg;
+        p.bending = self.bending();
         p.tooling = self.tools.tooling();
         p.blank = self.blank.size.0;
         p.friction = self.process.friction;
@@ -189,6 +190,22 @@ impl Scene {
         p.solver.stabilisation = self.numerics.stabilisation;
         p.penalty_factor = self.numerics.penalty_factor;
         p
+    }
+
+    /// The fabric's bending, with its yarns' compressive stiffness as fractions of `c` (the
+    /// default fraction when the scene gives none).
+    pub fn bending(&self) -> Option<crate::core::drawing::Bending> {
+        let f = &self.fabric;
+        let c = f.c.0;
+        f.bending_rigidity
+            .map(|rigidity| crate::core::drawing::Bending {
+                rigidity,
+                compression: f
+                    .compressive_stiffness
+                    .map_or([crate::core::drawing::DEFAULT_COMPRESSION; 2], |cc| {
+                        [cc[0] / c[0], cc[1] / c[1]]
+                    }),
+            })
     }
 
     /// The law's parameters for this scene's fabric.

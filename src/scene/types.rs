@@ -126,6 +126,17 @@ pub struct Fabric {
     /// (`core::shear::Locking`). Needs `shear_moment`.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub shear_locking: bool,
+    /// Bending rigidity per unit width `[B1, B2]`, N·mm (warp, weft): beyond the paper, absent
+    /// by default (the paper's membrane). Hinges along the yarn lines (`core::bending`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bending_rigidity: Option<[f64; 2]>,
+    /// The yarns' stiffness in compression `[Cc1, Cc2]`, N per yarn (as `c` in tension): with
+    /// `bending_rigidity`; absent, `DEFAULT_COMPRESSION` × `c` (1 % of it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compressive_stiffness: Option<[f64; 2]>,
+    /// Areal mass, g/m²: the fabric's weight in the cantilever test (`wovenform cantilever`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub areal_mass: Option<f64>,
 }
 
 impl Default for Fabric {
@@ -143,6 +154,9 @@ impl Default for Fabric {
             yarn_angle_deg: 90.0,
             shear_moment: None,
             shear_locking: false,
+            bending_rigidity: None,
+            compressive_stiffness: None,
+            areal_mass: None,
         }
     }
 }

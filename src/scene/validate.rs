@@ -147,6 +147,7 @@ impl Scene {
                 "a shear law to stiffen: fabric.shear_moment = [k1, k3, k5] with it",
             )
         })?;
+        self.check_bending()?;
         // An initial angle further from 90° than the locking angle is a fabric locked before
         // it is formed.
         let (lo, hi) = (90.0 - f.locking_angle_deg, 90.0 + f.locking_angle_deg);
@@ -163,6 +164,63 @@ impl Scene {
                 ),
             )
         })
+    }
+
+    /// Bending and what goes with it: rigidities ≥ 0 with one > 0, compressive stiffnesses
+    /// ≥ 0 and below `c`, the linear law and yarns along the mesh's lines (the hinges run
+    /// along them), an areal mass > 0.
+    fn check_bending(&self) -> Result<(), Broken> {
+        let f = &self.fabric;
+        if let Some(b) = f.bending_rigidity {
+            ok_if(
+                b.iter().all(|&v| non_neg(v)) && b.iter().any(|&v| pos(v)),
+                || {
+                    let what = "[B1, B2] in N·mm per unit width, each ≥ 0 and one > 0";
+                    broken("fabric.bending_rigidity", PerYarn(b), what)
+                },
+            )?;
+            ok_if(!f.undulation, || {
+                broken_with(
+                    &["fabric.bending_rigidity", "fabric.undulation"],
+                    "fabric.bending_rigidity with fabric.undulation = true: expected the linear \
+                     yarn law (undulation = false) with bending; the woven law has no \
+                     compressive branch yet"
+                        .to_string(),
+                )
+            })?;
+            ok_if((f.yarn_angle_deg - 90.0).abs() < 1e-9, || {
+                broken_with(
+                    &["fabric.bending_rigidity", "fabric.yarn_angle_deg"],
+                    format!(
+                        "fabric.bending_rigidity with fabric.yarn_angle_deg = {}: expected \
+                         yarns at 90° with bending (the hinges run along the blank mesh's \
+                         lines, which are the yarns only at 90°)",
+                        Num(f.yarn_angle_deg)
+                    ),
+                )
+            })?;
+        }
+        if let Some(cc) = f.compressive_stiffness {
+            ok_if((0..2).all(|i| non_neg(cc[i]) && cc[i] < f.c.0[i]), || {
+                let what = format!("[Cc1, Cc2] in N per yarn, each ≥ 0 and below c = {}", f.c);
+                broken("fabric.compressive_stiffness", PerYarn(cc), what)
+            })?;
+            ok_if(f.bending_rigidity.is_some(), || {
+                let what = "fabric.bending_rigidity with it (a compressive stiffness alone \
+                            shortens the membrane without wrinkling it)";
+                broken("fabric.compressive_stiffness", PerYarn(cc), what)
+            })?;
+        }
+        if let Some(m) = f.areal_mass {
+            ok_if(pos(m) && m < 1e5, || {
+                broken(
+                    "fabric.areal_mass",
+                    Num(m),
+                    "an areal mass > 0 and < 100,000 g/m²",
+                )
+            })?;
+        }
+        Ok(())
     }
 
     fn check_tools(&self) -> Result<(), Broken> {

@@ -11,6 +11,7 @@ mod common;
 #[path = "../slurm_common/mod.rs"]
 mod slurm_common;
 
+mod cantilever_cli;
 mod cli;
 mod converge_cli;
 mod hostile;

@@ -11,6 +11,7 @@ mod common;
 #[path = "../contact_common/mod.rs"]
 mod contact_common;
 
+mod bending;
 mod bias_extension;
 mod capstan;
 mod contact_checks;

@@ -167,7 +167,23 @@ pub struct DrawingProblem {
     pub toe_strain: f64,
     /// Lag friction's normal force and direction (measured against; see `ContactOptions`).
     pub lagged_friction: bool,
+    /// The fabric's bending (beyond the paper): hinges along the yarn lines
+    /// ([`crate::core::bending`]); `None`: the paper's membrane.
+    pub bending: Option<Bending>,
 }
+
+/// Bending stiffness and the yarns' compressive stiffness that goes with it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bending {
+    /// Bending rigidity per unit width `[B1, B2]`, N·mm.
+    pub rigidity: [f64; 2],
+    /// The yarns' stiffness in compression, as fractions of `C`.
+    pub compression: [f64; 2],
+}
+
+/// The yarns' compressive stiffness, as a fraction of `C`, when a scene gives bending rigidity
+/// and no compressive stiffness: a yarn a hundred times softer in compression than in tension.
+pub const DEFAULT_COMPRESSION: f64 = 1e-2;
 
 impl DrawingProblem {
     /// The paper's square box (Figure 11) with tool radii `r, rp, rm` (mm). Box side, depth,
@@ -196,6 +212,7 @@ impl DrawingProblem {
             contact_smoothing: 0.01,
             toe_strain: TOE_STRAIN,
             lagged_friction: false,
+            bending: None,
         }
     }
 
@@ -205,10 +222,12 @@ impl DrawingProblem {
         match self.symmetry {
             Symmetry::Full => false,
             Symmetry::Quarter => true,
-            // A mesh tool's symmetry is not known: the whole blank unless asked.
+            // A mesh tool's symmetry is not known: the whole blank unless asked. Bending lets
+            // the blank wrinkle, and wrinkles are not symmetric: the whole blank too.
             Symmetry::Auto => {
                 (self.yarn_angle_deg - 90.0).abs() < 1e-9
                     && !matches!(self.tooling, Tooling::Mesh { .. })
+                    && self.bending.is_none()
             }
         }
     }
@@ -413,10 +432,16 @@ impl DrawingProblem {
         let mesh = self.blank_mesh(quarter);
         let left_out = self.left_out();
         let prescribed = symmetry_planes(&mesh, quarter);
-        let law = CellLaw::new(self.fabric)
+        let mut law = CellLaw::new(self.fabric)
             .with_shear(self.shear)
             .with_toe(self.toe_strain);
-        let model = Model::new(mesh, law, &prescribed.dofs).map_err(DrawingFailure::BadElement)?;
+        let mut hinges = Vec::new();
+        if let Some(b) = self.bending {
+            law = law.with_compression(b.compression);
+            hinges = crate::core::bending::yarn_hinges(&mesh, b.rigidity).unwrap_or_default();
+        }
+        let model = Model::with_hinges(mesh, law, &prescribed.dofs, hinges)
+            .map_err(DrawingFailure::BadElement)?;
         let contact = self.contact(&model);
         Ok(Prepared {
             model,

@@ -3,7 +3,7 @@
 //! symmetric part into the sparse matrix that is factorized, the nodal terms' non-symmetric
 //! rest into a list of 3×3 node blocks.
 
-use super::model::{Model, pair_index};
+use super::model::{Model, hinge_pair, pair_index};
 use super::terms::{NodalTerms, NodeBlock};
 
 /// What the assembly of one configuration produced (the tangent stays in the [`Workspace`]).
@@ -66,6 +66,7 @@ impl Workspace {
         let internal_norm = self.f_all.iter().map(|v| v * v).sum::<f64>().sqrt();
         if tangent {
             self.add_element_tangents(model);
+            self.add_hinge_tangents(model);
         }
         let added = if tangent {
             self.blocks
@@ -120,6 +121,21 @@ impl Workspace {
                     let p = pair_index(i, j);
                     if (twice >> p) & 1 == 1 && slots[p] != u32::MAX {
                         self.values[slots[p] as usize] += out.k[j][i];
+                    }
+                }
+            }
+        }
+    }
+
+    /// The bending hinges' tangents into the stored triangle (a pair whose two dofs are one
+    /// stored entry in both orders — `(i, j)` and `(j, i)` — is added for each).
+    fn add_hinge_tangents(&mut self, model: &Model) {
+        for (out, slots) in model.hinge_outputs.iter().zip(&model.hinge_slots) {
+            for i in 0..9 {
+                for j in i..9 {
+                    let s = slots[hinge_pair(i, j)];
+                    if s != u32::MAX {
+                        self.values[s as usize] += out.k[i][j];
                     }
                 }
             }

@@ -4,6 +4,7 @@
 
 use rayon::prelude::*;
 
+use crate::core::bending::{self, Hinge, HingeResponse};
 use crate::core::element::{self, ElementGeometry, ElementOutput, GAUSS, GeometryError};
 use crate::core::law::{CellLaw, CrimpState};
 use crate::core::linear::{SparseCholesky, UpperPattern};
@@ -55,6 +56,11 @@ pub struct Model {
     /// damping of the Newton corrections.
     pub(super) cell_stiffness: Vec<f64>,
     pub(super) outputs: Vec<ElementOutput>,
+    /// The bending hinges along the yarn lines ([`crate::core::bending`]; none: the paper's
+    /// membrane), the slots of their 9×9 upper triangles and their last evaluation.
+    pub hinges: Vec<Hinge>,
+    pub(super) hinge_slots: Vec<[u32; 45]>,
+    pub(super) hinge_outputs: Vec<HingeResponse>,
     /// Reference length for displacement tolerances: the mean element size, mm.
     pub element_size: f64,
 }
@@ -78,6 +84,46 @@ fn number_equations(ndof: usize, prescribed_dofs: &[usize]) -> (Vec<usize>, usiz
         }
     }
     (eq, n)
+}
+
+/// Index of the pair `(i, j)`, `i ≤ j < 9`, in a hinge's 45 upper-triangle pairs.
+pub(super) fn hinge_pair(i: usize, j: usize) -> usize {
+    i * 9 - i * (i + 1) / 2 + j
+}
+
+/// The global dof of hinge-local dof `i` (`3·k + m`) of a hinge on `nodes`.
+fn hinge_dof(nodes: &[usize; 3], i: usize) -> usize {
+    3 * nodes[i / 3] + i % 3
+}
+
+/// Each hinge's upper-triangle pairs over free dofs: `(hinge, pair, row, col)`, `row ≤ col`.
+fn hinge_pairs<'a>(
+    hinges: &'a [Hinge],
+    eq: &'a [usize],
+) -> impl Iterator<Item = (usize, usize, usize, usize)> + 'a {
+    hinges.iter().enumerate().flat_map(move |(k, h)| {
+        (0..9).flat_map(move |i| {
+            (i..9).filter_map(move |j| {
+                let (a, b) = (eq[hinge_dof(&h.nodes, i)], eq[hinge_dof(&h.nodes, j)]);
+                (a != usize::MAX && b != usize::MAX).then_some((
+                    k,
+                    hinge_pair(i, j),
+                    a.min(b),
+                    a.max(b),
+                ))
+            })
+        })
+    })
+}
+
+/// Where in the stored tangent each hinge's upper-triangle pairs go (`u32::MAX` where a dof is
+/// prescribed).
+fn hinge_slots(hinges: &[Hinge], eq: &[usize], linear: &SparseCholesky) -> Vec<[u32; 45]> {
+    let mut slots = vec![[u32::MAX; 45]; hinges.len()];
+    for (k, pair, a, b) in hinge_pairs(hinges, eq) {
+        slots[k][pair] = linear.slot(a, b).expect("pair in pattern") as u32;
+    }
+    slots
 }
 
 /// The global dof of element-local dof `i` (`3·k + m`) of quad `q`.
@@ -139,6 +185,16 @@ impl Model {
     /// Builds the model: element geometry, the dof numbering with `prescribed_dofs` removed, the
     /// sparsity pattern and its symbolic factorization.
     pub fn new(mesh: Mesh, law: CellLaw, prescribed_dofs: &[usize]) -> Result<Model, BadElement> {
+        Model::with_hinges(mesh, law, prescribed_dofs, Vec::new())
+    }
+
+    /// [`Model::new`] with bending hinges along the yarn lines.
+    pub fn with_hinges(
+        mesh: Mesh,
+        law: CellLaw,
+        prescribed_dofs: &[usize],
+        hinges: Vec<Hinge>,
+    ) -> Result<Model, BadElement> {
         let cell_lengths = law.p.l0[0] * law.p.l0[1];
         let geometry = mesh
             .quads
@@ -160,8 +216,12 @@ impl Model {
                 })
             })
         });
-        let linear = SparseCholesky::new(UpperPattern::from_couplings(n, couplings));
+        let linear = SparseCholesky::new(UpperPattern::from_couplings(
+            n,
+            couplings.chain(hinge_pairs(&hinges, &eq).map(|(_, _, a, b)| (a, b))),
+        ));
         let (element_slots, node_slots) = slots(&mesh, &eq, &linear);
+        let hinge_slots = hinge_slots(&hinges, &eq, &linear);
         let element_twice = mesh
             .quads
             .iter()
@@ -191,6 +251,9 @@ impl Model {
             linear,
             cell_stiffness,
             outputs: vec![ElementOutput::default(); ne],
+            hinge_outputs: vec![HingeResponse::default(); hinges.len()],
+            hinge_slots,
+            hinges,
             element_size,
             geometry,
             mesh,
@@ -256,6 +319,9 @@ impl Model {
         tangent: bool,
         parallel: bool,
     ) -> u64 {
+        for (h, out) in self.hinges.iter().zip(&mut self.hinge_outputs) {
+            *out = bending::evaluate(h.k, h.nodes.map(|n| x[n]), tangent);
+        }
         let quads = &self.mesh.quads;
         let geometry = &self.geometry;
         let law = &self.law;
@@ -296,11 +362,22 @@ impl Model {
                 f[3 * q[i / 3] + i % 3] += out.f[i];
             }
         }
+        for (h, out) in self.hinges.iter().zip(&self.hinge_outputs) {
+            for i in 0..9 {
+                f[hinge_dof(&h.nodes, i)] += out.f[i];
+            }
+        }
     }
 
     /// Stored energy of the fabric at the last evaluation, N·mm.
     pub fn stored_energy(&self) -> f64 {
-        self.outputs.iter().map(|o| o.energy).sum()
+        let hinges: f64 = self.hinge_outputs.iter().map(|o| o.energy).sum();
+        self.outputs.iter().map(|o| o.energy).sum::<f64>() + hinges
+    }
+
+    /// The bending energy of the fabric at the last evaluation, N·mm.
+    pub fn bending_energy(&self) -> f64 {
+        self.hinge_outputs.iter().map(|o| o.energy).sum()
     }
 
     /// Shear angle of each element, degrees.

@@ -1,0 +1,247 @@
+//! The heavy cantilever (Peirce; the fabric bending test of ASTM D1388) as a scene: a strip of
+//! fabric, its warp along its length, clamped flat at one end and bent by its own weight.
+//!
+//! The strip is a yarn grid from `x = −h` to `x = L` (`h` the element length along it); the
+//! nodes at `x = −h` and `x = 0` are held, so the clamp is flat and the free overhang is `L`.
+//! Gravity is a dead load along −z on every node, its initial tributary area times the areal
+//! weight `w = areal mass × g`, applied in load steps. The closed forms it is checked against
+//! (small deflection `w L⁴/(8B)`, the heavy elastica, Peirce's bending length
+//! `c = (B/w)^{1/3}`) are in `src/guide/bending.md`.
+
+use crate::core::bending;
+use crate::core::law::{CellLaw, CellParams};
+use crate::core::mesh::Mesh;
+use crate::core::solver::{
+    Failure, LinearPrescribed, Model, NodalSums, NodalTerms, NodeBlock, Solver, SolverOptions,
+};
+
+/// Standard gravity, m/s² (= N/kg).
+pub const GRAVITY: f64 = 9.80665;
+
+/// A cantilever test.
+#[derive(Clone, Debug)]
+pub struct CantileverProblem {
+    /// The fabric (the linear yarn law: `undulation` off).
+    pub fabric: CellParams,
+    /// Bending rigidity per unit width `[B1, B2]`, N·mm (warp along the strip).
+    pub bending_rigidity: [f64; 2],
+    /// The yarns' compressive stiffness as fractions of `C`.
+    pub compression: [f64; 2],
+    /// Areal mass of the fabric, g/m².
+    pub areal_mass_g_m2: f64,
+    /// Overhang `L` and width `W`, mm.
+    pub length: f64,
+    pub width: f64,
+    /// Target element size, mm.
+    pub element_size: f64,
+    pub solver: SolverOptions,
+}
+
+/// Why a cantilever test has no answer.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CantileverError {
+    /// The woven (undulation) law has no compressive branch yet.
+    WovenLaw,
+    /// A size, rigidity or mass is not positive and finite.
+    NotPositive { what: &'static str, value: f64 },
+}
+
+impl std::fmt::Display for CantileverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CantileverError::WovenLaw => write!(
+                f,
+                "the cantilever needs the linear yarn law (fabric.undulation = false): the woven \
+                 law has no compressive stiffness yet"
+            ),
+            CantileverError::NotPositive { what, value } => {
+                write!(f, "{what} must be positive and finite, got {value}")
+            }
+        }
+    }
+}
+
+/// What the test gives.
+#[derive(Clone, Debug)]
+pub struct CantileverResult {
+    /// Tip deflection below the clamp (mean over the tip's nodes), mm.
+    pub tip_deflection_mm: f64,
+    /// Tip's horizontal distance from the clamp, mm.
+    pub tip_reach_mm: f64,
+    /// Slope of the strip at the tip below horizontal, degrees.
+    pub tip_angle_deg: f64,
+    /// Angle of the chord clamp → tip below horizontal (Peirce's φ), degrees.
+    pub chord_angle_deg: f64,
+    /// The areal weight `w`, N/mm².
+    pub areal_weight_n_mm2: f64,
+    pub newton_iterations: u32,
+    pub steps: u32,
+    pub failure: Option<Failure>,
+    pub mesh: Mesh,
+    pub positions: Vec<[f64; 3]>,
+}
+
+/// A dead load: a fixed force on each node times the load factor.
+struct DeadLoad {
+    force: Vec<[f64; 3]>,
+}
+
+impl NodalTerms for DeadLoad {
+    fn add(
+        &self,
+        lambda: f64,
+        x: &[[f64; 3]],
+        r: &mut [f64],
+        _: Option<&mut [NodeBlock]>,
+    ) -> Option<NodalSums> {
+        let mut sums = NodalSums::default();
+        let mut scale2 = 0.0;
+        for (i, (f, p)) in self.force.iter().zip(x).enumerate() {
+            let mut largest = 0.0f64;
+            for m in 0..3 {
+                r[3 * i + m] -= lambda * f[m];
+                sums.energy -= lambda * f[m] * p[m];
+                largest = largest.max((lambda * f[m]).abs());
+            }
+            scale2 += largest * largest;
+        }
+        sums.energy_frozen = sums.energy;
+        sums.scale = scale2.sqrt();
+        Some(sums)
+    }
+}
+
+impl CantileverProblem {
+    fn check(&self) -> Result<(), CantileverError> {
+        if self.fabric.undulation {
+            return Err(CantileverError::WovenLaw);
+        }
+        let positive = [
+            ("the overhang length", self.length),
+            ("the strip's width", self.width),
+            ("the element size", self.element_size),
+            ("fabric.areal_mass", self.areal_mass_g_m2),
+            ("the warp's bending rigidity", self.bending_rigidity[0]),
+        ];
+        for (what, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(CantileverError::NotPositive { what, value });
+            }
+        }
+        Ok(())
+    }
+
+    /// The strip's mesh: `n` elements over the overhang plus one in the clamp.
+    fn mesh(&self) -> Mesh {
+        let n = (self.length / self.element_size).ceil().max(2.0) as usize;
+        let m = (self.width / self.element_size).round().max(1.0) as usize;
+        let h = self.length / n as f64;
+        Mesh::yarn_grid(
+            [-h, -0.5 * self.width],
+            [self.length + h, self.width],
+            [n + 1, m],
+            std::f64::consts::FRAC_PI_2,
+        )
+    }
+
+    /// Bends the strip under its weight, in load steps from no weight to all of it.
+    pub fn solve(&self) -> Result<CantileverResult, CantileverError> {
+        self.check()?;
+        let mesh = self.mesh();
+        let [n1, _] = mesh.grid.expect("a yarn grid");
+        let held: Vec<usize> = (0..mesh.nodes.len())
+            .filter(|&i| i % (n1 + 1) <= 1)
+            .flat_map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect();
+        let w = self.areal_mass_g_m2 * 1e-9 * GRAVITY; // g/m² → kg/mm², times g: N/mm²
+        let mut force = vec![[0.0; 3]; mesh.nodes.len()];
+        for q in &mesh.quads {
+            let p = q.map(|n| mesh.nodes[n]);
+            let area = 0.5
+                * ((p[2][0] - p[0][0]) * (p[3][1] - p[1][1])
+                    - (p[3][0] - p[1][0]) * (p[2][1] - p[0][1]))
+                    .abs();
+            for &n in q {
+                force[n][2] -= 0.25 * area * w;
+            }
+        }
+        let mut hinges = bending::yarn_hinges(&mesh, self.bending_rigidity).expect("a yarn grid");
+        // The hinge at the clamp's edge (x = 0) turns the free strip against the clamped
+        // segment: its curvature acts over the half segment on the strip's side only, so it
+        // stands for h/2 of length, not h (k = B w / L̄ doubles). Without this the root is too
+        // soft by h/2 and the tip falls 2h/L too far.
+        for h in hinges.iter_mut() {
+            if h.nodes[0] % (n1 + 1) == 0 && h.nodes[1] % (n1 + 1) == 1 {
+                h.k *= 2.0;
+            }
+        }
+        let law = CellLaw::new(self.fabric)
+            .with_toe(crate::core::drawing::TOE_STRAIN)
+            .with_compression(self.compression);
+        let mut model = Model::with_hinges(mesh.clone(), law, &held, hinges)
+            .expect("a rectangular strip has good elements");
+        let fixed = LinearPrescribed {
+            at_full_load: vec![0.0; held.len()],
+            dofs: held,
+        };
+        // The weight is a force of micronewtons per node: the floor of the force tolerance (a
+        // yarn strain's worth of tension) would call any state balanced. The tolerance is
+        // relative to the weight instead, at 1e-4 of it: the yarns' round-off (C times a
+        // strain of 1e-16, some 1e-11 N) sits near 1e-6 of it.
+        let mut options = self.solver.clone();
+        options.tol_floor = 0.0;
+        options.tol_force = options.tol_force.max(1e-4);
+        // The pseudo-transient damping is scaled by the yarns' tensile stiffness, some 10⁵
+        // times the strip's bending stiffness: it would freeze the bending. None is needed here
+        // (the clamped strip is no mechanism).
+        options.stabilisation = 0.0;
+        let mut solver = Solver::new(&mut model, options);
+        let solved = solver.solve(&fixed, &mut DeadLoad { force }, &mut |_| {
+            std::ops::ControlFlow::Continue(())
+        });
+        let stats = solver.stats.clone();
+        let x = model.positions();
+        Ok(self.measure(
+            mesh,
+            x,
+            w,
+            stats.newton_iterations,
+            stats.steps,
+            solved.err(),
+        ))
+    }
+
+    fn measure(
+        &self,
+        mesh: Mesh,
+        x: Vec<[f64; 3]>,
+        w: f64,
+        newton_iterations: u32,
+        steps: u32,
+        failure: Option<Failure>,
+    ) -> CantileverResult {
+        let [n1, n2] = mesh.grid.expect("a yarn grid");
+        let id = |i: usize, j: usize| j * (n1 + 1) + i;
+        let (mut dz, mut reach, mut slope) = (0.0, 0.0, 0.0);
+        for j in 0..=n2 {
+            let (tip, before, root) = (x[id(n1, j)], x[id(n1 - 1, j)], x[id(1, j)]);
+            dz += root[2] - tip[2];
+            reach += tip[0] - root[0];
+            slope += (before[2] - tip[2]).atan2(tip[0] - before[0]);
+        }
+        let k = (n2 + 1) as f64;
+        let (dz, reach) = (dz / k, reach / k);
+        CantileverResult {
+            tip_deflection_mm: dz,
+            tip_reach_mm: reach,
+            tip_angle_deg: (slope / k).to_degrees(),
+            chord_angle_deg: dz.atan2(reach).to_degrees(),
+            areal_weight_n_mm2: w,
+            newton_iterations,
+            steps,
+            failure,
+            mesh,
+            positions: x,
+        }
+    }
+}

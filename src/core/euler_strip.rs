@@ -1,0 +1,205 @@
+//! The Euler strip: a strip of fabric (warp along it) clamped flat at both ends and shortened
+//! by `Δ`, the buckling check of bending stiffness with compressive yarns.
+//!
+//! The strip runs from `x = −h` to `x = L + h` (`h` the element length): the two rows of nodes
+//! at each end are held, so the clamps are flat and the free length is `L`; the end at
+//! `x = L` moves by `−Δ` along x in load steps. A buckling problem needs a trigger: a small
+//! lateral pressure `q` along −z on the whole strip, given by the sag it alone would cause at
+//! mid-length, `q L⁴/(384 B)` (`trigger_sag_mm`), which favours the first (symmetric) mode as
+//! a seeded imperfection of that shape would. (An imperfection in the initial mesh would be
+//! bent straight again: the hinges' rest state is a straight line.) The closed forms (`src/guide/bending.md`): it stays
+//! nearly flat until the end force reaches `4π²BW/L²`, then buckles, the force staying near
+//! that value and the amplitude `(2/π)√(L(Δ − Δc))`.
+
+use crate::core::bending;
+use crate::core::law::{CellLaw, CellParams};
+use crate::core::mesh::Mesh;
+use crate::core::solver::{
+    Failure, Model, NodalSums, NodalTerms, NodeBlock, Prescribed, Solver, SolverOptions,
+};
+
+/// A clamped–clamped strip shortened by `shortening_mm`.
+#[derive(Clone, Debug)]
+pub struct EulerStripProblem {
+    /// The fabric (the linear yarn law).
+    pub fabric: CellParams,
+    /// Bending rigidity per unit width `[B1, B2]`, N·mm.
+    pub bending_rigidity: [f64; 2],
+    /// The yarns' compressive stiffness as fractions of `C`.
+    pub compression: [f64; 2],
+    /// Free length `L` and width `W`, mm.
+    pub length: f64,
+    pub width: f64,
+    pub element_size: f64,
+    /// End shortening `Δ`, mm.
+    pub shortening_mm: f64,
+    /// The trigger: the mid-length sag the lateral pressure alone causes, mm.
+    pub trigger_sag_mm: f64,
+    /// Points of the force–shortening curve.
+    pub points: usize,
+    pub solver: SolverOptions,
+}
+
+/// The curve of the shortening.
+#[derive(Clone, Debug, Default)]
+pub struct EulerStripResult {
+    pub shortening_mm: Vec<f64>,
+    /// The force on the moving clamp along −x (compression positive), N.
+    pub force_n: Vec<f64>,
+    /// The deflection at mid-length below the clamps' plane (mean over the width), mm.
+    pub amplitude_mm: Vec<f64>,
+    pub failure: Option<Failure>,
+}
+
+impl EulerStripProblem {
+    fn mesh(&self) -> (Mesh, f64) {
+        let n = (self.length / self.element_size).ceil().max(4.0) as usize;
+        let m = (self.width / self.element_size).round().max(1.0) as usize;
+        let h = self.length / n as f64;
+        let mesh = Mesh::yarn_grid(
+            [-h, -0.5 * self.width],
+            [self.length + 2.0 * h, self.width],
+            [n + 2, m],
+            std::f64::consts::FRAC_PI_2,
+        );
+        (mesh, h)
+    }
+
+    /// Shortens the strip in `points` increments; each point solved from the last.
+    pub fn solve(&self) -> EulerStripResult {
+        let (mesh, h) = self.mesh();
+        let [n1, _] = mesh.grid.expect("a yarn grid");
+        let column = |i: usize| i % (n1 + 1);
+        let held: Vec<usize> = (0..mesh.nodes.len())
+            .filter(|&i| column(i) <= 1 || column(i) >= n1 - 1)
+            .flat_map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect();
+        let moving: Vec<bool> = held
+            .iter()
+            .map(|&d| d % 3 == 0 && column(d / 3) >= n1 - 1)
+            .collect();
+        let mut hinges = bending::yarn_hinges(&mesh, self.bending_rigidity).expect("a yarn grid");
+        // The hinges at the clamps' edges stand for half a segment (see core::cantilever).
+        for hg in hinges.iter_mut() {
+            let c = column(hg.nodes[1]);
+            if (c == 1 && column(hg.nodes[0]) == 0) || (c == n1 - 1 && column(hg.nodes[2]) == n1) {
+                hg.k *= 2.0;
+            }
+        }
+        let law = CellLaw::new(self.fabric)
+            .with_toe(crate::core::drawing::TOE_STRAIN)
+            .with_compression(self.compression);
+        let mut model = Model::with_hinges(mesh.clone(), law, &held, hinges)
+            .expect("a rectangular strip has good elements");
+        let mut options = self.solver.clone();
+        // Forces of millinewtons against yarns of 10⁴ N: the tolerance relative to the load,
+        // no damping scaled by the yarns (see core::cantilever).
+        options.tol_floor = 0.0;
+        options.tol_force = options.tol_force.max(1e-4);
+        options.stabilisation = 0.0;
+        let mut out = EulerStripResult {
+            shortening_mm: vec![0.0],
+            force_n: vec![0.0],
+            amplitude_mm: vec![0.0],
+            failure: None,
+        };
+        let q = self.trigger_sag_mm * 384.0 * self.bending_rigidity[0] / self.length.powi(4);
+        let mut trigger = LateralPressure {
+            force: tributary_areas(&mesh).iter().map(|a| -q * a).collect(),
+        };
+        let points = self.points.max(1);
+        let mid: Vec<usize> = (0..mesh.nodes.len())
+            .filter(|&i| (mesh.nodes[i][0] - 0.5 * self.length).abs() < 0.5 * h + 1e-9)
+            .collect();
+        for k in 1..=points {
+            let d = self.shortening_mm * k as f64 / points as f64;
+            let prescribed = Shortening {
+                dofs: &held,
+                moving: &moving,
+                from: self.shortening_mm * (k - 1) as f64 / points as f64,
+                to: d,
+            };
+            let mut solver = Solver::new(&mut model, options.clone());
+            if let Err(f) = solver.solve(&prescribed, &mut trigger, &mut |_| {
+                std::ops::ControlFlow::Continue(())
+            }) {
+                out.failure = Some(f);
+                break;
+            }
+            model.evaluate_elements(false, false);
+            let f = model.internal_force();
+            let force: f64 = (held.iter().zip(&moving))
+                .filter(|(_, m)| **m)
+                .map(|(&dof, _)| f[dof])
+                .sum();
+            let x = model.positions();
+            let amp = -mid.iter().map(|&i| x[i][2]).sum::<f64>() / mid.len().max(1) as f64;
+            out.shortening_mm.push(d);
+            out.force_n.push(-force);
+            out.amplitude_mm.push(amp);
+        }
+        out
+    }
+}
+
+/// The clamps from one point of the curve to the next: the moving clamp's x from `−from` to
+/// `−to` along the load path, the rest held.
+struct Shortening<'a> {
+    dofs: &'a [usize],
+    moving: &'a [bool],
+    from: f64,
+    to: f64,
+}
+
+impl Prescribed for Shortening<'_> {
+    fn dofs(&self) -> &[usize] {
+        self.dofs
+    }
+    fn values(&self, lambda: f64, out: &mut [f64]) {
+        let d = self.from + lambda * (self.to - self.from);
+        for (o, &m) in out.iter_mut().zip(self.moving) {
+            *o = if m { -d } else { 0.0 };
+        }
+    }
+}
+
+/// Each node's share of the initial area (a quarter of each of its elements), mm².
+fn tributary_areas(mesh: &Mesh) -> Vec<f64> {
+    let mut area = vec![0.0; mesh.nodes.len()];
+    for q in &mesh.quads {
+        let p = q.map(|n| mesh.nodes[n]);
+        let a = 0.5
+            * ((p[2][0] - p[0][0]) * (p[3][1] - p[1][1])
+                - (p[3][0] - p[1][0]) * (p[2][1] - p[0][1]))
+                .abs();
+        for &n in q {
+            area[n] += 0.25 * a;
+        }
+    }
+    area
+}
+
+/// A constant force along z on each node (the trigger), the same at every load factor.
+struct LateralPressure {
+    force: Vec<f64>,
+}
+
+impl NodalTerms for LateralPressure {
+    fn add(
+        &self,
+        _: f64,
+        x: &[[f64; 3]],
+        r: &mut [f64],
+        _: Option<&mut [NodeBlock]>,
+    ) -> Option<NodalSums> {
+        let mut sums = NodalSums::default();
+        for (i, (f, p)) in self.force.iter().zip(x).enumerate() {
+            r[3 * i + 2] -= f;
+            sums.energy -= f * p[2];
+            sums.scale += f * f;
+        }
+        sums.energy_frozen = sums.energy;
+        sums.scale = sums.scale.sqrt();
+        Some(sums)
+    }
+}

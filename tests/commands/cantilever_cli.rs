@@ -1,0 +1,81 @@
+//! `wovenform cantilever`: the heavy cantilever of a scene's fabric against `w L⁴/(8B)`, and
+//! its refusals (no rigidity, no mass, the woven law, bad keys) with exit 2 before any work.
+
+use crate::common::{text, wovenform_in, write_file};
+
+const FABRIC: &str =
+    "[fabric]\nundulation = false\nbending_rigidity = [0.08, 0.08]\nareal_mass = 300.0\n";
+
+#[test]
+fn the_overhang_test_falls_as_the_small_deflection_closed_form() {
+    let d = tempfile::tempdir().unwrap();
+    write_file(d.path(), "glass.toml", FABRIC.as_bytes());
+    let out = wovenform_in(
+        d.path(),
+        &["cantilever", "glass.toml", "--length", "20", "--json"],
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let w = 300.0 * 1e-9 * 9.80665;
+    let closed = w * 20f64.powi(4) / (8.0 * 0.08);
+    let tip = j["tip_deflection_mm"].as_f64().unwrap();
+    assert!(
+        (tip / closed - 1.0).abs() < 0.02,
+        "{tip} mm against {closed} mm"
+    );
+    // Peirce's formula, read back from a small chord, gives the scene's B within 1 %.
+    let b = j["peirce_rigidity_nmm"].as_f64().unwrap();
+    assert!((b / 0.08 - 1.0).abs() < 0.01, "{b}");
+    // The text names the bending length with its unit.
+    let out = wovenform_in(d.path(), &["cantilever", "glass.toml", "--length", "20"]);
+    assert!(
+        text(&out.stdout).contains("bending length c = 30.07 mm"),
+        "{}",
+        text(&out.stdout)
+    );
+}
+
+#[test]
+fn a_fabric_without_bending_or_mass_or_with_the_woven_law_is_refused_with_exit_2() {
+    let d = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "[fabric]\nundulation = false\nareal_mass = 300.0\n",
+            "fabric.bending_rigidity",
+        ),
+        (
+            "[fabric]\nundulation = false\nbending_rigidity = [0.08, 0.08]\n",
+            "fabric.areal_mass",
+        ),
+        (
+            "[fabric]\nbending_rigidity = [0.08, 0.08]\nareal_mass = 300.0\n",
+            "fabric.undulation",
+        ),
+        (
+            "[fabric]\nundulation = false\nbending_rigidity = [-1.0, 0.08]\n",
+            "fabric.bending_rigidity",
+        ),
+        (
+            "[fabric]\nundulation = false\nbending_rigidity = [0.1, 0.1]\nareal_mass = -3.0\n",
+            "fabric.areal_mass",
+        ),
+        (
+            "[fabric]\nundulation = false\nbending_rigidity = [0.1, 0.1]\ncompressive_stiffness = [1e6, 1.0]\n",
+            "fabric.compressive_stiffness",
+        ),
+        (
+            "[fabric]\nundulation = false\ncompressive_stiffness = [1.0, 1.0]\n",
+            "fabric.compressive_stiffness",
+        ),
+    ];
+    for (scene, key) in cases {
+        write_file(d.path(), "s.toml", scene.as_bytes());
+        let out = wovenform_in(d.path(), &["cantilever", "s.toml", "--length", "20"]);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{scene}: {err}");
+        assert!(
+            err.contains(key) && err.contains("s.toml"),
+            "{scene}: {err}"
+        );
+    }
+}
