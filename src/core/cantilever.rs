@@ -11,9 +11,8 @@
 use crate::core::bending;
 use crate::core::law::{CellLaw, CellParams};
 use crate::core::mesh::Mesh;
-use crate::core::solver::{
-    Failure, LinearPrescribed, Model, NodalSums, NodalTerms, NodeBlock, Solver, SolverOptions,
-};
+use crate::core::solver::{Failure, LinearPrescribed, Model, Solver, SolverOptions};
+use crate::core::strip::{self, DeadLoad};
 
 /// Standard gravity, m/s² (= N/kg).
 pub const GRAVITY: f64 = 9.80665;
@@ -81,36 +80,6 @@ pub struct CantileverResult {
     pub positions: Vec<[f64; 3]>,
 }
 
-/// A dead load: a fixed force on each node times the load factor.
-struct DeadLoad {
-    force: Vec<[f64; 3]>,
-}
-
-impl NodalTerms for DeadLoad {
-    fn add(
-        &self,
-        lambda: f64,
-        x: &[[f64; 3]],
-        r: &mut [f64],
-        _: Option<&mut [NodeBlock]>,
-    ) -> Option<NodalSums> {
-        let mut sums = NodalSums::default();
-        let mut scale2 = 0.0;
-        for (i, (f, p)) in self.force.iter().zip(x).enumerate() {
-            let mut largest = 0.0f64;
-            for m in 0..3 {
-                r[3 * i + m] -= lambda * f[m];
-                sums.energy -= lambda * f[m] * p[m];
-                largest = largest.max((lambda * f[m]).abs());
-            }
-            scale2 += largest * largest;
-        }
-        sums.energy_frozen = sums.energy;
-        sums.scale = scale2.sqrt();
-        Some(sums)
-    }
-}
-
 impl CantileverProblem {
     fn check(&self) -> Result<(), CantileverError> {
         if self.fabric.undulation {
@@ -131,50 +100,26 @@ impl CantileverProblem {
         Ok(())
     }
 
-    /// The strip's mesh: `n` elements over the overhang plus one in the clamp.
-    fn mesh(&self) -> Mesh {
-        let n = (self.length / self.element_size).ceil().max(2.0) as usize;
-        let m = (self.width / self.element_size).round().max(1.0) as usize;
-        let h = self.length / n as f64;
-        Mesh::yarn_grid(
-            [-h, -0.5 * self.width],
-            [self.length + h, self.width],
-            [n + 1, m],
-            std::f64::consts::FRAC_PI_2,
-        )
-    }
-
     /// Bends the strip under its weight, in load steps from no weight to all of it.
     pub fn solve(&self) -> Result<CantileverResult, CantileverError> {
         self.check()?;
-        let mesh = self.mesh();
+        let (mesh, _) = strip::strip_mesh(self.length, self.width, self.element_size, 2, 0);
         let [n1, _] = mesh.grid.expect("a yarn grid");
+        let column = |i: usize| i % (n1 + 1);
         let held: Vec<usize> = (0..mesh.nodes.len())
-            .filter(|&i| i % (n1 + 1) <= 1)
+            .filter(|&i| column(i) <= 1)
             .flat_map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
             .collect();
         let w = self.areal_mass_g_m2 * 1e-9 * GRAVITY; // g/m² → kg/mm², times g: N/mm²
-        let mut force = vec![[0.0; 3]; mesh.nodes.len()];
-        for q in &mesh.quads {
-            let p = q.map(|n| mesh.nodes[n]);
-            let area = 0.5
-                * ((p[2][0] - p[0][0]) * (p[3][1] - p[1][1])
-                    - (p[3][0] - p[1][0]) * (p[2][1] - p[0][1]))
-                    .abs();
-            for &n in q {
-                force[n][2] -= 0.25 * area * w;
-            }
-        }
+        let mut weight = DeadLoad {
+            force_z: strip::tributary_areas(&mesh)
+                .iter()
+                .map(|a| -w * a)
+                .collect(),
+            scaled: true,
+        };
         let mut hinges = bending::yarn_hinges(&mesh, self.bending_rigidity).expect("a yarn grid");
-        // The hinge at the clamp's edge (x = 0) turns the free strip against the clamped
-        // segment: its curvature acts over the half segment on the strip's side only, so it
-        // stands for h/2 of length, not h (k = B w / L̄ doubles). Without this the root is too
-        // soft by h/2 and the tip falls 2h/L too far.
-        for h in hinges.iter_mut() {
-            if h.nodes[0] % (n1 + 1) == 0 && h.nodes[1] % (n1 + 1) == 1 {
-                h.k *= 2.0;
-            }
-        }
+        strip::stiffen_clamp_edges(&mut hinges, column, |c| c <= 1);
         let law = CellLaw::new(self.fabric)
             .with_toe(crate::core::drawing::TOE_STRAIN)
             .with_compression(self.compression);
@@ -184,19 +129,8 @@ impl CantileverProblem {
             at_full_load: vec![0.0; held.len()],
             dofs: held,
         };
-        // The weight is a force of micronewtons per node: the floor of the force tolerance (a
-        // yarn strain's worth of tension) would call any state balanced. The tolerance is
-        // relative to the weight instead, at 1e-4 of it: the yarns' round-off (C times a
-        // strain of 1e-16, some 1e-11 N) sits near 1e-6 of it.
-        let mut options = self.solver.clone();
-        options.tol_floor = 0.0;
-        options.tol_force = options.tol_force.max(1e-4);
-        // The pseudo-transient damping is scaled by the yarns' tensile stiffness, some 10⁵
-        // times the strip's bending stiffness: it would freeze the bending. None is needed here
-        // (the clamped strip is no mechanism).
-        options.stabilisation = 0.0;
-        let mut solver = Solver::new(&mut model, options);
-        let solved = solver.solve(&fixed, &mut DeadLoad { force }, &mut |_| {
+        let mut solver = Solver::new(&mut model, strip::strip_solver(&self.solver));
+        let solved = solver.solve(&fixed, &mut weight, &mut |_| {
             std::ops::ControlFlow::Continue(())
         });
         let stats = solver.stats.clone();

@@ -13,10 +13,8 @@
 
 use crate::core::bending;
 use crate::core::law::{CellLaw, CellParams};
-use crate::core::mesh::Mesh;
-use crate::core::solver::{
-    Failure, Model, NodalSums, NodalTerms, NodeBlock, Prescribed, Solver, SolverOptions,
-};
+use crate::core::solver::{Failure, Model, Prescribed, Solver, SolverOptions};
+use crate::core::strip::{self, DeadLoad};
 
 /// A clamped–clamped strip shortened by `shortening_mm`.
 #[derive(Clone, Debug)]
@@ -52,26 +50,14 @@ pub struct EulerStripResult {
 }
 
 impl EulerStripProblem {
-    fn mesh(&self) -> (Mesh, f64) {
-        let n = (self.length / self.element_size).ceil().max(4.0) as usize;
-        let m = (self.width / self.element_size).round().max(1.0) as usize;
-        let h = self.length / n as f64;
-        let mesh = Mesh::yarn_grid(
-            [-h, -0.5 * self.width],
-            [self.length + 2.0 * h, self.width],
-            [n + 2, m],
-            std::f64::consts::FRAC_PI_2,
-        );
-        (mesh, h)
-    }
-
     /// Shortens the strip in `points` increments; each point solved from the last.
     pub fn solve(&self) -> EulerStripResult {
-        let (mesh, h) = self.mesh();
+        let (mesh, h) = strip::strip_mesh(self.length, self.width, self.element_size, 4, 1);
         let [n1, _] = mesh.grid.expect("a yarn grid");
         let column = |i: usize| i % (n1 + 1);
+        let clamped = |c: usize| c <= 1 || c >= n1 - 1;
         let held: Vec<usize> = (0..mesh.nodes.len())
-            .filter(|&i| column(i) <= 1 || column(i) >= n1 - 1)
+            .filter(|&i| clamped(column(i)))
             .flat_map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
             .collect();
         let moving: Vec<bool> = held
@@ -79,24 +65,13 @@ impl EulerStripProblem {
             .map(|&d| d % 3 == 0 && column(d / 3) >= n1 - 1)
             .collect();
         let mut hinges = bending::yarn_hinges(&mesh, self.bending_rigidity).expect("a yarn grid");
-        // The hinges at the clamps' edges stand for half a segment (see core::cantilever).
-        for hg in hinges.iter_mut() {
-            let c = column(hg.nodes[1]);
-            if (c == 1 && column(hg.nodes[0]) == 0) || (c == n1 - 1 && column(hg.nodes[2]) == n1) {
-                hg.k *= 2.0;
-            }
-        }
+        strip::stiffen_clamp_edges(&mut hinges, column, clamped);
         let law = CellLaw::new(self.fabric)
             .with_toe(crate::core::drawing::TOE_STRAIN)
             .with_compression(self.compression);
         let mut model = Model::with_hinges(mesh.clone(), law, &held, hinges)
             .expect("a rectangular strip has good elements");
-        let mut options = self.solver.clone();
-        // Forces of millinewtons against yarns of 10⁴ N: the tolerance relative to the load,
-        // no damping scaled by the yarns (see core::cantilever).
-        options.tol_floor = 0.0;
-        options.tol_force = options.tol_force.max(1e-4);
-        options.stabilisation = 0.0;
+        let options = strip::strip_solver(&self.solver);
         let mut out = EulerStripResult {
             shortening_mm: vec![0.0],
             force_n: vec![0.0],
@@ -104,8 +79,12 @@ impl EulerStripProblem {
             failure: None,
         };
         let q = self.trigger_sag_mm * 384.0 * self.bending_rigidity[0] / self.length.powi(4);
-        let mut trigger = LateralPressure {
-            force: tributary_areas(&mesh).iter().map(|a| -q * a).collect(),
+        let mut trigger = DeadLoad {
+            force_z: strip::tributary_areas(&mesh)
+                .iter()
+                .map(|a| -q * a)
+                .collect(),
+            scaled: false,
         };
         let points = self.points.max(1);
         let mid: Vec<usize> = (0..mesh.nodes.len())
@@ -160,46 +139,5 @@ impl Prescribed for Shortening<'_> {
         for (o, &m) in out.iter_mut().zip(self.moving) {
             *o = if m { -d } else { 0.0 };
         }
-    }
-}
-
-/// Each node's share of the initial area (a quarter of each of its elements), mm².
-fn tributary_areas(mesh: &Mesh) -> Vec<f64> {
-    let mut area = vec![0.0; mesh.nodes.len()];
-    for q in &mesh.quads {
-        let p = q.map(|n| mesh.nodes[n]);
-        let a = 0.5
-            * ((p[2][0] - p[0][0]) * (p[3][1] - p[1][1])
-                - (p[3][0] - p[1][0]) * (p[2][1] - p[0][1]))
-                .abs();
-        for &n in q {
-            area[n] += 0.25 * a;
-        }
-    }
-    area
-}
-
-/// A constant force along z on each node (the trigger), the same at every load factor.
-struct LateralPressure {
-    force: Vec<f64>,
-}
-
-impl NodalTerms for LateralPressure {
-    fn add(
-        &self,
-        _: f64,
-        x: &[[f64; 3]],
-        r: &mut [f64],
-        _: Option<&mut [NodeBlock]>,
-    ) -> Option<NodalSums> {
-        let mut sums = NodalSums::default();
-        for (i, (f, p)) in self.force.iter().zip(x).enumerate() {
-            r[3 * i + 2] -= f;
-            sums.energy -= f * p[2];
-            sums.scale += f * f;
-        }
-        sums.energy_frozen = sums.energy;
-        sums.scale = sums.scale.sqrt();
-        Some(sums)
     }
 }

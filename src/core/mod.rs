@@ -18,5 +18,6 @@ pub mod linear;
 pub mod mesh;
 pub mod shear;
 pub mod solver;
+pub mod strip;
 pub mod toe;
 pub mod tools;
