@@ -26,6 +26,10 @@ pub struct BenchArgs {
     /// one thread and on all (each run stopped after --deadline seconds; minutes in all).
     #[arg(long)]
     pub scaling: bool,
+    /// Also time the open box (whole blank, standard) with bending against the same box
+    /// without it: what bending costs at the same mesh (about 20 s).
+    #[arg(long)]
+    pub bending: bool,
     /// With --scaling: stop each run after this many seconds (a ratio is then a lower bound).
     #[arg(long, default_value_t = 600.0, value_name = "S")]
     pub deadline: f64,
@@ -44,6 +48,7 @@ pub fn exec(args: BenchArgs) -> Result<(), CliError> {
         friction: args.friction,
         mesh: args.mesh,
         scaling: args.scaling.then_some(args.deadline),
+        bending: args.bending,
     };
     let note = |what: &str| {
         if !args.json {

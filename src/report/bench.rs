@@ -12,6 +12,36 @@ pub const TARGET_OPEN_BOX_FACTORIZATIONS: f64 = 190.0;
 pub const TARGET_FINE_OVER_STANDARD: f64 = 6.0;
 pub const TARGET_DOF_EXPONENT: f64 = 1.25;
 pub const TARGET_BIAS_LONG_OVER_SHORT: f64 = 5.0;
+/// The open box with bending over the same box without it, whole blank, standard (issue 27).
+pub const TARGET_BENDING_OVER_MEMBRANE: f64 = 2.0;
+
+fn bending_json([without, with]: &[Timed; 2]) -> serde_json::Value {
+    serde_json::json!({
+        "without": timed_json(without), "with": timed_json(with),
+        "bending_rigidity_nmm": crate::study::bench::BENCH_BENDING_RIGIDITY,
+        "with_over_without": with.wall_s / without.wall_s,
+        "target": TARGET_BENDING_OVER_MEMBRANE,
+    })
+}
+
+fn write_bending([without, with]: &[Timed; 2], out: &mut String) {
+    let _ = writeln!(
+        out,
+        "bending (open box, whole blank, standard, B = {} N·mm): {:.2} s with against {:.2} s \
+         without, {:.2}× (target ≤ {TARGET_BENDING_OVER_MEMBRANE}×); Newton {} against {}{}",
+        crate::study::bench::BENCH_BENDING_RIGIDITY[0],
+        with.wall_s,
+        without.wall_s,
+        with.wall_s / without.wall_s,
+        with.newton_iterations,
+        without.newton_iterations,
+        if with.finished && without.finished {
+            ""
+        } else {
+            " (a run did not finish)"
+        }
+    );
+}
 
 fn timed_json(t: &Timed) -> serde_json::Value {
     serde_json::json!({
@@ -92,6 +122,7 @@ impl Measured {
             "open_box_bare_factorizations_target": TARGET_OPEN_BOX_FACTORIZATIONS,
             "wall_dof_exponent_target": TARGET_DOF_EXPONENT,
             "scaling": self.scaling.as_ref().map(scaling_json),
+            "bending": self.bending.as_ref().map(bending_json),
             "iteration_over_factor_solve": open.iteration_over_factor_solve(),
             "tight_box_standard_wall_s": self.drawings.tight.wall_s,
             "open_box_friction_0_05_wall_s": self.drawings.open_low_friction.wall_s,
@@ -152,6 +183,9 @@ impl Measured {
         self.write_mesh(&mut out);
         if let Some(s) = &self.scaling {
             write_scaling(s, &mut out);
+        }
+        if let Some(b) = &self.bending {
+            write_bending(b, &mut out);
         }
         out
     }

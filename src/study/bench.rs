@@ -97,6 +97,24 @@ pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
     p
 }
 
+/// The bending rigidity the bench's bending entry gives the open box, N·mm per mm of width
+/// (a light glass fabric's order of magnitude: a 30 mm bending length at 300 g/m²).
+pub const BENCH_BENDING_RIGIDITY: [f64; 2] = [0.08, 0.08];
+
+/// The open box at standard on one thread, whole blank, without bending and with
+/// [`BENCH_BENDING_RIGIDITY`] (and the default compressive stiffness): the cost of bending at
+/// the same mesh.
+pub fn bending_cost() -> [crate::study::scaling::Timed; 2] {
+    let open = "presets/paper-box-open.toml";
+    let without = preset(PAPER_BOX_OPEN, open, &["mesh.symmetry=\"full\""]);
+    let rigidity = format!(
+        "fabric.bending_rigidity=[{}, {}]",
+        BENCH_BENDING_RIGIDITY[0], BENCH_BENDING_RIGIDITY[1]
+    );
+    let with = preset(PAPER_BOX_OPEN, open, &[rigidity.as_str()]);
+    [without, with].map(|p| crate::study::scaling::timed_drawing(&p, 600.0))
+}
+
 /// The drawings the benchmark times, each at `standard` (2.5 mm elements), on one thread:
 /// the open box, the tight box and the open box at μ 0.05, with their names.
 pub fn cases() -> [(&'static str, crate::core::drawing::DrawingProblem); 3] {
@@ -149,6 +167,8 @@ pub struct BenchOptions {
     /// Also measure the cost of a finer answer ([`crate::study::scaling`]), each run stopped
     /// after this many seconds.
     pub scaling: Option<f64>,
+    /// Also time the open box with bending against the same box without it.
+    pub bending: bool,
 }
 
 /// Everything one `bench` measured.
@@ -170,6 +190,8 @@ pub struct Measured {
     pub mesh: Vec<Result<crate::study::mesh_bench::MeshRun, String>>,
     /// The cost of a finer answer (unless not asked for).
     pub scaling: Option<Scaling>,
+    /// The open box, whole blank, at standard without and with bending (unless not asked for).
+    pub bending: Option<[crate::study::scaling::Timed; 2]>,
 }
 
 /// What a finer answer costs: fine over standard on designs of the grid, the long bias
@@ -233,6 +255,10 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
             threads: rayon::current_num_threads(),
         }
     });
+    let bending = o.bending.then(|| {
+        note("the open box, whole blank, at standard without and with bending");
+        bending_cost()
+    });
     let drawings = Drawings {
         open,
         tight,
@@ -250,6 +276,7 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
         friction,
         mesh,
         scaling,
+        bending,
     })
 }
 
