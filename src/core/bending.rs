@@ -121,12 +121,22 @@ fn norm(a: [f64; 3]) -> f64 {
 
 /// The hinges of a yarn-grid blank (`mesh.grid`) for bending rigidities `[B1, B2]` (N·mm, per
 /// unit width; warp along the grid's first index, weft along its second). `None` for a mesh
-/// that is not a yarn grid (its yarn lines are not known).
+/// that is not a yarn grid, or whose grid lines do not run along its yarns (a weft off 90° on
+/// a rectangular grid): its yarn lines are not known.
 pub fn yarn_hinges(mesh: &Mesh, rigidity: [f64; 2]) -> Option<Vec<Hinge>> {
     let [n1, n2] = mesh.grid?;
     let id = |i: usize, j: usize| j * (n1 + 1) + i;
     let x = &mesh.nodes;
     let len = |a: usize, b: usize| norm(sub(x[b], x[a]));
+    if let Some(yarns) = mesh.yarns {
+        let along = |a: usize, b: usize, h: [f64; 3]| {
+            let e = sub(x[b], x[a]);
+            (dot(e, h) / norm(e) - 1.0).abs() < 1e-9
+        };
+        if !(along(id(0, 0), id(1, 0), yarns[0]) && along(id(0, 0), id(0, 1), yarns[1])) {
+            return None;
+        }
+    }
     // The sine of the angle between the yarns: the width across a line per unit spacing.
     let sine = mesh.yarns.map_or(1.0, |[h1, h2]| {
         let c = [
@@ -264,5 +274,9 @@ mod tests {
         // An interior warp line stands for 2 mm of width, its edge lines for 1 mm; L̄ = 2 mm.
         let k: Vec<f64> = hinges.iter().take(12).map(|h| h.k).collect();
         assert!((k[0] - 1.0 * 1.0 / 2.0).abs() < 1e-12 && (k[4] - 1.0 * 2.0 / 2.0).abs() < 1e-12);
+        // A weft off the grid's lines: the yarn lines are not the mesh's lines.
+        let mut skew = mesh.clone();
+        skew.yarns = Some([[1.0, 0.0, 0.0], [0.5, 0.75f64.sqrt(), 0.0]]);
+        assert!(yarn_hinges(&skew, [1.0, 1.0]).is_none());
     }
 }

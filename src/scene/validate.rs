@@ -200,6 +200,17 @@ impl Scene {
                 )
             })?;
         }
+        if f.bending_rigidity.is_some() {
+            ok_if(self.mesh.symmetry != SymmetryChoice::Quarter, || {
+                broken_with(
+                    &["mesh.symmetry", "fabric.bending_rigidity"],
+                    "mesh.symmetry = \"quarter\" with fabric.bending_rigidity: expected \"auto\" \
+                     or \"full\" (wrinkles are not symmetric, and a quarter's yarn lines end at \
+                     the symmetry planes without the slope condition there)"
+                        .to_string(),
+                )
+            })?;
+        }
         if let Some(cc) = f.compressive_stiffness {
             ok_if((0..2).all(|i| non_neg(cc[i]) && cc[i] < f.c.0[i]), || {
                 let what = format!("[Cc1, Cc2] in N per yarn, each ≥ 0 and below c = {}", f.c);

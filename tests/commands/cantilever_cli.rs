@@ -67,6 +67,11 @@ fn a_fabric_without_bending_or_mass_or_with_the_woven_law_is_refused_with_exit_2
             "[fabric]\nundulation = false\ncompressive_stiffness = [1.0, 1.0]\n",
             "fabric.compressive_stiffness",
         ),
+        (
+            "[fabric]\nundulation = false\nbending_rigidity = [0.1, 0.1]\nareal_mass = 300.0\n\
+             [mesh]\nsymmetry = \"quarter\"\n",
+            "mesh.symmetry",
+        ),
     ];
     for (scene, key) in cases {
         write_file(d.path(), "s.toml", scene.as_bytes());

@@ -22,6 +22,9 @@ pub enum DrawingFailure {
     BadElement(BadElement),
     /// The solver stopped short of the full stroke.
     Solver(Failure),
+    /// Bending was asked for on a blank whose mesh lines are not its yarn lines (a yarn angle
+    /// off 90°): the hinges have no line to run along.
+    BendingOffYarnLines,
 }
 
 impl DrawingFailure {
@@ -55,6 +58,11 @@ impl std::fmt::Display for DrawingFailure {
             }
             DrawingFailure::BadElement(e) => write!(f, "{e}"),
             DrawingFailure::Solver(e) => write!(f, "{e}"),
+            DrawingFailure::BendingOffYarnLines => write!(
+                f,
+                "bending needs the yarns along the blank mesh's lines (fabric.yarn_angle_deg = \
+                 90): the hinges run along them"
+            ),
         }
     }
 }

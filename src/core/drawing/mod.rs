@@ -438,7 +438,8 @@ impl DrawingProblem {
         let mut hinges = Vec::new();
         if let Some(b) = self.bending {
             law = law.with_compression(b.compression);
-            hinges = crate::core::bending::yarn_hinges(&mesh, b.rigidity).unwrap_or_default();
+            hinges = crate::core::bending::yarn_hinges(&mesh, b.rigidity)
+                .ok_or(DrawingFailure::BendingOffYarnLines)?;
         }
         let model = Model::with_hinges(mesh, law, &prescribed.dofs, hinges)
             .map_err(DrawingFailure::BadElement)?;

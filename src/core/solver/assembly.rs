@@ -127,8 +127,8 @@ impl Workspace {
         }
     }
 
-    /// The bending hinges' tangents into the stored triangle (a pair whose two dofs are one
-    /// stored entry in both orders — `(i, j)` and `(j, i)` — is added for each).
+    /// The bending hinges' tangents into the stored triangle, each upper pair once (a hinge's
+    /// three nodes are distinct, so no two of its pairs share a stored entry).
     fn add_hinge_tangents(&mut self, model: &Model) {
         for (out, slots) in model.hinge_outputs.iter().zip(&model.hinge_slots) {
             for i in 0..9 {
