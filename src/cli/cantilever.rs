@@ -1,13 +1,13 @@
 //! `wovenform cantilever SCENE.toml --length L --width W [--json]`: the heavy cantilever of the
 //! scene's fabric (Peirce; ASTM D1388), with `fabric.bending_rigidity` and `fabric.areal_mass`:
 //! the tip's deflection and angles, and the bending length that checks B against a
-//! measured one.
+//! measured one; writes cantilever.png (the strip from the side against the heavy elastica).
 
 use clap::Args;
 use serde::Serialize;
 
-use super::CliError;
-use super::scene_args::SceneFileArgs;
+use super::scene_args::{OutArgs, SceneFileArgs};
+use super::{CliError, outputs};
 use wovenform::core::cantilever::{CantileverProblem, CantileverResult};
 
 #[derive(Args, Debug)]
@@ -27,6 +27,8 @@ pub struct CantileverArgs {
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub out: OutArgs,
 }
 
 #[derive(Serialize)]
@@ -47,6 +49,7 @@ struct CantileverOutput {
     converged: bool,
     failure: Option<String>,
     wall_s: f64,
+    files: Vec<String>,
 }
 
 /// Peirce's rigidity from an overhang `l` (mm), its chord angle `phi` (rad) and the areal
@@ -88,11 +91,22 @@ pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
         element_size: args.element_size,
         solver: scene.to_problem().solver,
     };
+    let dir = args.out.dir("cantilever-", file);
+    let inputs = outputs::scene_inputs(Some(file), &scene);
+    outputs::prepare(
+        &dir,
+        &outputs::replaceable(&dir, &["cantilever.png"]),
+        &inputs,
+    )?;
     let start = std::time::Instant::now();
     let r = problem
         .solve()
         .map_err(|e| CliError::bad_input(format!("{}: {e}", file.display())))?;
     let wall_s = start.elapsed().as_secs_f64();
+    let png = dir.join("cantilever.png");
+    wovenform::report::cantilever::profile_chart(&problem, &r)
+        .write_png(&png)
+        .map_err(|e| CliError::failed(format!("{}: {e}", png.display())))?;
     let c = (rigidity[0] / r.areal_weight_n_mm2).cbrt();
     let peirce = peirce_rigidity(
         args.length,
@@ -115,10 +129,13 @@ pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
             converged: r.failure.is_none(),
             failure: r.failure.as_ref().map(|f| f.to_string()),
             wall_s,
+            files: vec![png.display().to_string()],
         };
         println!("{}", serde_json::to_string(&out).expect("plain data"));
     } else {
         print_text(&args, rigidity[0], mass, c, peirce, &r, wall_s);
+        println!();
+        println!("{}", png.display());
     }
     match &r.failure {
         Some(f) => Err(CliError::failed(format!("{}: {f}", file.display()))),

@@ -179,3 +179,65 @@ impl CantileverProblem {
         }
     }
 }
+
+/// The heavy elastica of a strip of rigidity `b` (N·mm per mm), weight `w` (N/mm²) and overhang
+/// `l` (mm): `B θ'' = −w (L − s) cos θ`, `θ(0) = 0`, `θ'(L) = 0`, by shooting on `θ'(0)`
+/// (bisection) with RK4 over `n` steps. Returns the tip's slope (rad) and the shape as
+/// `(x, −z)` points from the clamp, mm: the reference the strip's picture is drawn against.
+pub fn heavy_elastica(b: f64, w: f64, l: f64, n: usize) -> (f64, Vec<(f64, f64)>) {
+    let run = |k0: f64, keep: bool| {
+        let h = l / n as f64;
+        let f = |s: f64, t: f64| -w * (l - s) * t.cos() / b;
+        let (mut th, mut dth, mut x, mut y) = (0.0f64, k0, 0.0, 0.0);
+        let mut shape = vec![(0.0, 0.0)];
+        for i in 0..n {
+            let s = i as f64 * h;
+            let (k1t, k1d) = (dth, f(s, th));
+            let (k2t, k2d) = (dth + 0.5 * h * k1d, f(s + 0.5 * h, th + 0.5 * h * k1t));
+            let (k3t, k3d) = (dth + 0.5 * h * k2d, f(s + 0.5 * h, th + 0.5 * h * k2t));
+            let (k4t, k4d) = (dth + h * k3d, f(s + h, th + h * k3t));
+            let mid = th + 0.5 * h * k1t;
+            x += h * mid.cos();
+            y += h * mid.sin();
+            th += h / 6.0 * (k1t + 2.0 * k2t + 2.0 * k3t + k4t);
+            dth += h / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
+            if keep {
+                shape.push((x, y));
+            }
+        }
+        (th, dth, shape)
+    };
+    // θ'(L) rises with θ'(0); the root lies below the linear beam's w L²/(2B) times two.
+    let (mut lo, mut hi) = (0.0, w * l * l / b);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if run(mid, false).1 > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let (th, _, shape) = run(0.5 * (lo + hi), true);
+    (th, shape)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::heavy_elastica;
+
+    #[test]
+    fn a_light_elastica_is_the_linear_beam() {
+        // w L⁴/(8B) for a small load; the tip's slope w L³/(6B).
+        let (b, w, l) = (1.0, 1e-6, 10.0);
+        let (th, shape) = heavy_elastica(b, w, l, 2000);
+        let tip = shape.last().unwrap().1;
+        assert!(
+            (tip / (w * l.powi(4) / (8.0 * b)) - 1.0).abs() < 1e-4,
+            "{tip}"
+        );
+        assert!(
+            (th / (w * l.powi(3) / (6.0 * b)) - 1.0).abs() < 1e-4,
+            "{th}"
+        );
+    }
+}

@@ -2,6 +2,7 @@
 //! maps, VTU file and summary of a drawing run; the report sheet of a design sweep.
 pub mod bench;
 pub mod bias;
+pub mod cantilever;
 pub mod canvas;
 pub mod contour;
 pub mod converge;

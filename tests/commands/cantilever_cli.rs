@@ -26,13 +26,14 @@ fn the_overhang_test_falls_as_the_small_deflection_closed_form() {
     // Peirce's formula, read back from a small chord, gives the scene's B within 1 %.
     let b = j["peirce_rigidity_nmm"].as_f64().unwrap();
     assert!((b / 0.08 - 1.0).abs() < 0.01, "{b}");
-    // The text names the bending length with its unit.
-    let out = wovenform_in(d.path(), &["cantilever", "glass.toml", "--length", "20"]);
-    assert!(
-        text(&out.stdout).contains("bending length c = 30.07 mm"),
-        "{}",
-        text(&out.stdout)
-    );
+    // The text names the bending length with its unit; the picture is written where it says.
+    let args = ["cantilever", "glass.toml", "--length", "20", "--out", "cv"];
+    let out = wovenform_in(d.path(), &args);
+    let said = text(&out.stdout);
+    assert!(said.contains("bending length c = 30.07 mm"), "{said}");
+    assert!(said.contains("cantilever.png"), "{said}");
+    let png = std::fs::read(d.path().join("cv/cantilever.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG"));
 }
 
 #[test]
