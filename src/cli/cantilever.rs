@@ -58,30 +58,27 @@ fn peirce_rigidity(l: f64, phi: f64, w: f64) -> f64 {
     w * l.powi(3) * (0.5 * phi).cos() / (8.0 * phi.tan())
 }
 
-pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
-    let file = &args.scene.scene;
-    let scene = args.scene.load()?;
-    let missing = |key: &str| {
+/// The test the arguments and the scene describe; an error names the key the scene lacks.
+fn problem(
+    args: &CantileverArgs,
+    scene: &wovenform::scene::Scene,
+) -> Result<CantileverProblem, CliError> {
+    let missing = |key: &str, what: &str| {
         CliError::bad_input(format!(
-            "{}: {key} is not set: the cantilever needs the fabric's {}",
-            file.display(),
-            if key == "fabric.areal_mass" {
-                "areal mass (g/m²)"
-            } else {
-                "bending rigidity [B1, B2] (N·mm)"
-            }
+            "{}: {key} is not set: the cantilever needs the fabric's {what}",
+            args.scene.scene.display()
         ))
     };
-    let rigidity = scene
-        .fabric
-        .bending_rigidity
-        .ok_or_else(|| missing("fabric.bending_rigidity"))?;
-    let mass = scene
-        .fabric
-        .areal_mass
-        .ok_or_else(|| missing("fabric.areal_mass"))?;
+    let f = &scene.fabric;
+    let rigidity = (f.bending_rigidity).ok_or_else(|| {
+        missing(
+            "fabric.bending_rigidity",
+            "bending rigidity [B1, B2] (N·mm)",
+        )
+    })?;
+    let mass = (f.areal_mass).ok_or_else(|| missing("fabric.areal_mass", "areal mass (g/m²)"))?;
     let bending = scene.bending().expect("bending rigidity is set");
-    let problem = CantileverProblem {
+    Ok(CantileverProblem {
         fabric: scene.to_cell_params(),
         bending_rigidity: rigidity,
         compression: bending.compression,
@@ -90,7 +87,14 @@ pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
         width: args.width,
         element_size: args.element_size,
         solver: scene.to_problem().solver,
-    };
+    })
+}
+
+pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
+    let file = &args.scene.scene;
+    let scene = args.scene.load()?;
+    let problem = problem(&args, &scene)?;
+    let (rigidity, mass) = (problem.bending_rigidity, problem.areal_mass_g_m2);
     let dir = args.out.dir("cantilever-", file);
     let inputs = outputs::scene_inputs(Some(file), &scene);
     outputs::prepare(
