@@ -139,11 +139,6 @@ impl CellLaw {
         self
     }
 
-    /// The yarns' compressive stiffness, as fractions of `C`.
-    pub fn compression(&self) -> [f64; 2] {
-        self.compression
-    }
-
     /// The same cell with the in-plane shear law `shear` (or none).
     pub fn with_shear(mut self, shear: Option<crate::core::shear::ShearLaw>) -> Self {
         self.shear = shear;

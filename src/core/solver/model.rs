@@ -375,11 +375,6 @@ impl Model {
         self.outputs.iter().map(|o| o.energy).sum::<f64>() + hinges
     }
 
-    /// The bending energy of the fabric at the last evaluation, N·mm.
-    pub fn bending_energy(&self) -> f64 {
-        self.hinge_outputs.iter().map(|o| o.energy).sum()
-    }
-
     /// Shear angle of each element, degrees.
     pub fn shear_angles_deg(&self) -> Vec<f64> {
         let x = self.positions();
