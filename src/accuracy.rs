@@ -50,6 +50,18 @@ pub struct ErrorEstimate {
     pub punch_force_pct: f64,
     /// Relative error of the maximum yarn tension, %.
     pub max_tension_pct: f64,
+    /// Error of the wrinkle amplitude (with bending): an absolute part, mm, and a relative
+    /// part, % of the amplitude (`guide::bending`: the drawings' level-to-level distances and
+    /// the Euler strip's wave 20 mm long).
+    pub max_wrinkle_mm: f64,
+    pub max_wrinkle_pct: f64,
+}
+
+impl ErrorEstimate {
+    /// How far a wrinkle amplitude of `amplitude_mm` can be off, mm.
+    pub fn wrinkle_mm(&self, amplitude_mm: f64) -> f64 {
+        self.max_wrinkle_mm + amplitude_mm * self.max_wrinkle_pct / 100.0
+    }
 }
 
 impl Accuracy {
@@ -117,6 +129,8 @@ impl Accuracy {
             max_shear_deg: k * e.max_shear_deg,
             punch_force_pct: k * e.punch_force_pct,
             max_tension_pct: k * e.max_tension_pct,
+            max_wrinkle_mm: e.max_wrinkle_mm,
+            max_wrinkle_pct: e.max_wrinkle_pct,
         }
     }
 
@@ -128,16 +142,22 @@ impl Accuracy {
                 max_shear_deg: 4.0,
                 punch_force_pct: 15.0,
                 max_tension_pct: 160.0,
+                max_wrinkle_mm: 0.35,
+                max_wrinkle_pct: 15.0,
             },
             Accuracy::Standard => ErrorEstimate {
                 max_shear_deg: 1.2,
                 punch_force_pct: 5.0,
                 max_tension_pct: 35.0,
+                max_wrinkle_mm: 0.25,
+                max_wrinkle_pct: 5.0,
             },
             Accuracy::Fine => ErrorEstimate {
                 max_shear_deg: 0.6,
                 punch_force_pct: 2.5,
                 max_tension_pct: 15.0,
+                max_wrinkle_mm: 0.12,
+                max_wrinkle_pct: 2.0,
             },
         }
     }

@@ -85,7 +85,8 @@ pub const RUN_FILES: [&str; 6] = [
 ];
 
 /// Writes `shear.png`, `tension.png`, their developed views (`shear_developed.png`,
-/// `tension_developed.png`: on the flat blank), `result.vtu` and `summary.json` into `dir`
+/// `tension_developed.png`: on the flat blank), `result.vtu`, `summary.json` and, where the
+/// fabric has bending, `wrinkles.png` into `dir`
 /// (created if needed), records them in `summary.files`, and returns their paths. Errors name the file.
 pub fn write_run(
     dir: &Path,
@@ -134,6 +135,16 @@ pub fn write_run(
         summary
             .files
             .insert(kind.to_string(), path.display().to_string());
+    }
+    // With bending: the wrinkle map too.
+    let mut written = written;
+    if let Some(map) = maps::wrinkle_map(result, &ctx, summary.wrinkle_limit_mm) {
+        let path = dir.join("wrinkles.png");
+        map.write_png(&path)?;
+        summary
+            .files
+            .insert("wrinkle_map".to_string(), path.display().to_string());
+        written.push(path);
     }
     let text = serde_json::to_string_pretty(&*summary).expect("the summary is plain data");
     write_atomic(&json, (text + "\n").as_bytes()).map_err(io(&json, "write the summary"))?;

@@ -63,6 +63,13 @@ pub struct RunSummary {
     pub max_shear_err_deg: Option<f64>,
     pub punch_force_err_pct: Option<f64>,
     pub max_tension_err_pct: Option<f64>,
+    /// The largest wrinkle amplitude, mm (`core::wrinkle`: out-of-plane waviness along the
+    /// yarns that the tools do not explain), where it is, and how far it can be off (mm); all
+    /// `null` for the paper's membrane, which has no bending and so no wrinkles.
+    pub max_wrinkle_mm: Option<f64>,
+    pub max_wrinkle_at: Option<[f64; 3]>,
+    pub max_wrinkle_err_mm: Option<f64>,
+    pub wrinkle_limit_mm: f64,
     pub dofs: usize,
     /// Elements of the solved part, and which part was solved ("quarter" or "full").
     pub elements: usize,
@@ -96,13 +103,11 @@ impl RunSummary {
     pub fn new(name: &str, scene: &Scene, result: &DrawingResult, wall_s: f64) -> RunSummary {
         let limits = Limits::of(scene);
         let [(e, max_shear_deg), (_, max_tension_n)] = result.cell_peaks();
-        let unsound: Vec<String> = if result.converged {
-            result.unsound().iter().map(|u| u.to_string()).collect()
-        } else {
-            Vec::new()
-        };
+        let unsound = unsound_words(result);
         let level = Accuracy::of_element_size(scene.mesh.element_size);
         let error = level.map(|a| a.error_for(scene.tools.smallest_radius_mm()));
+        let wrinkle = result.max_wrinkle();
+        let wrinkle_err_mm = wrinkle.zip(error).map(|((w, _), e)| e.wrinkle_mm(w));
         let facts = Facts {
             converged: result.converged,
             no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_))),
@@ -112,6 +117,8 @@ impl RunSummary {
                 max_tension_n,
                 max_shear_err_deg: error.map_or(0.0, |e| e.max_shear_deg),
                 max_tension_err_pct: error.map_or(0.0, |e| e.max_tension_pct),
+                max_wrinkle_mm: wrinkle.map(|w| w.0),
+                max_wrinkle_err_mm: wrinkle_err_mm.unwrap_or(0.0),
             },
             limits,
             stroke_reached_mm: result.stroke_reached_mm,
@@ -120,11 +127,7 @@ impl RunSummary {
         let judged = facts.judge();
         let feasible = judged.verdict == Verdict::Feasible;
         let verdict = facts.sentence();
-        let max_shear_at = if result.shear_deg.is_empty() {
-            [0.0; 3]
-        } else {
-            result.element_centre(e)
-        };
+        let max_shear_at = centre_or_origin(result, e);
         RunSummary {
             scene: name.to_string(),
             converged: result.converged,
@@ -151,6 +154,10 @@ impl RunSummary {
             max_shear_err_deg: error.map(|e| e.max_shear_deg),
             punch_force_err_pct: error.map(|e| e.punch_force_pct),
             max_tension_err_pct: error.map(|e| e.max_tension_pct),
+            max_wrinkle_mm: wrinkle.map(|w| w.0),
+            max_wrinkle_at: wrinkle.map(|w| w.1),
+            max_wrinkle_err_mm: wrinkle_err_mm,
+            wrinkle_limit_mm: limits.wrinkle_limit_mm,
             dofs: result.dofs,
             elements: result.mesh.quads.len(),
             solved_part: if result.quarter { "quarter" } else { "full" }.to_string(),
@@ -212,6 +219,24 @@ impl RunSummary {
     /// One JSON object on one line.
     pub fn to_json(&self) -> String {
         serde_json::to_string(self).expect("the summary is plain data")
+    }
+}
+
+/// Why a converged result cannot be trusted, in words (empty when it can, or did not converge).
+fn unsound_words(result: &DrawingResult) -> Vec<String> {
+    if result.converged {
+        result.unsound().iter().map(|u| u.to_string()).collect()
+    } else {
+        Vec::new()
+    }
+}
+
+/// The final centre of element `e`, or the origin for a run with no field.
+fn centre_or_origin(result: &DrawingResult, e: usize) -> [f64; 3] {
+    if result.shear_deg.is_empty() {
+        [0.0; 3]
+    } else {
+        result.element_centre(e)
     }
 }
 

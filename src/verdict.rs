@@ -47,6 +47,8 @@ pub struct Limits {
     pub locking_angle_deg: f64,
     /// The yarns' break tension, N.
     pub break_tension_n: f64,
+    /// The largest wrinkle amplitude allowed, mm (judged only where the model has bending).
+    pub wrinkle_limit_mm: f64,
 }
 
 impl Limits {
@@ -55,6 +57,7 @@ impl Limits {
         Limits {
             locking_angle_deg: scene.fabric.locking_angle_deg,
             break_tension_n: scene.fabric.break_tension_n,
+            wrinkle_limit_mm: scene.fabric.wrinkle_limit_mm,
         }
     }
 }
@@ -68,6 +71,11 @@ pub struct Figures {
     pub max_shear_err_deg: f64,
     /// How far the max tension can be off, % of it (0: not known).
     pub max_tension_err_pct: f64,
+    /// The largest wrinkle amplitude, mm, where the model has bending (`None`: the paper's
+    /// membrane, which cannot wrinkle: not judged).
+    pub max_wrinkle_mm: Option<f64>,
+    /// How far the wrinkle amplitude can be off, mm (0: not known).
+    pub max_wrinkle_err_mm: f64,
 }
 
 /// Where a figure's error band stands against its limit.
@@ -109,43 +117,64 @@ impl Figures {
         ]
     }
 
-    /// Where the max shear's band and the max tension's band stand against their limits.
-    pub fn standing(&self, limits: Limits) -> [Standing; 2] {
+    /// Where the max shear's, the max tension's and the wrinkle amplitude's bands stand against
+    /// their limits (wrinkles: within when the model has no bending).
+    pub fn standing(&self, limits: Limits) -> [Standing; 3] {
+        let wrinkles = self.max_wrinkle_mm.map_or(Standing::Within, |w| {
+            let e = self.max_wrinkle_err_mm.abs();
+            Standing::of([w - e, w + e], limits.wrinkle_limit_mm)
+        });
         [
             Standing::of(self.shear_band(), limits.locking_angle_deg),
             Standing::of(self.tension_band(), limits.break_tension_n),
+            wrinkles,
         ]
     }
 }
 
 /// Which limit(s) decide a verdict: for INFEASIBLE the figures whose whole band is over their
 /// limit, for MARGINAL those whose band holds their limit, else none.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Over {
-    None,
-    Shear,
-    Tension,
-    Both,
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Over {
+    pub shear: bool,
+    pub tension: bool,
+    pub wrinkles: bool,
 }
 
 impl Over {
-    fn of(shear: bool, tension: bool) -> Over {
-        match (shear, tension) {
-            (false, false) => Over::None,
-            (true, false) => Over::Shear,
-            (false, true) => Over::Tension,
-            (true, true) => Over::Both,
+    /// No limit decides.
+    pub const NONE: Over = Over {
+        shear: false,
+        tension: false,
+        wrinkles: false,
+    };
+
+    fn of([shear, tension, wrinkles]: [bool; 3]) -> Over {
+        Over {
+            shear,
+            tension,
+            wrinkles,
         }
     }
 
-    /// The shear decides (alone or with the tension).
+    /// The shear decides (alone or with others).
     pub fn shear(self) -> bool {
-        matches!(self, Over::Shear | Over::Both)
+        self.shear
     }
 
-    /// The tension decides (alone or with the shear).
+    /// The tension decides (alone or with others).
     pub fn tension(self) -> bool {
-        matches!(self, Over::Tension | Over::Both)
+        self.tension
+    }
+
+    /// The wrinkles decide (alone or with others).
+    pub fn wrinkles(self) -> bool {
+        self.wrinkles
+    }
+
+    /// No limit decides.
+    pub fn is_none(self) -> bool {
+        self == Over::NONE
     }
 }
 
@@ -161,10 +190,10 @@ impl Judged {
     /// figure's whole band is over its limit, marginal when a limit lies inside a band,
     /// feasible otherwise.
     pub fn of(figures: &Figures, limits: Limits) -> Judged {
-        let [shear, tension] = figures.standing(limits);
-        let verdict = if shear == Standing::Over || tension == Standing::Over {
+        let standing = figures.standing(limits);
+        let verdict = if standing.contains(&Standing::Over) {
             Verdict::Infeasible
-        } else if shear == Standing::Inside || tension == Standing::Inside {
+        } else if standing.contains(&Standing::Inside) {
             Verdict::Marginal
         } else {
             Verdict::Feasible
@@ -179,21 +208,23 @@ impl Judged {
     pub fn explain(verdict: Verdict, figures: Option<&Figures>, limits: Limits) -> Judged {
         let over = match figures {
             Some(f) => {
-                let [shear, tension] = f.standing(limits);
-                let by = |s: Standing| Over::of(shear == s, tension == s);
+                let standing = f.standing(limits);
+                let by = |s: Standing| Over::of(standing.map(|x| x == s));
                 match verdict {
                     Verdict::Infeasible => match by(Standing::Over) {
-                        Over::None => Over::of(
+                        Over::NONE => Over::of([
                             f.max_shear_deg > limits.locking_angle_deg,
                             f.max_tension_n > limits.break_tension_n,
-                        ),
+                            f.max_wrinkle_mm
+                                .is_some_and(|w| w > limits.wrinkle_limit_mm),
+                        ]),
                         over => over,
                     },
                     Verdict::Marginal => by(Standing::Inside),
-                    _ => Over::None,
+                    _ => Over::NONE,
                 }
             }
-            None => Over::None,
+            None => Over::NONE,
         };
         Judged { verdict, over }
     }
@@ -202,7 +233,7 @@ impl Judged {
     pub fn failed() -> Judged {
         Judged {
             verdict: Verdict::Failed,
-            over: Over::None,
+            over: Over::NONE,
         }
     }
 
@@ -215,6 +246,7 @@ impl Judged {
             Verdict::Marginal => "≈ marginal",
             Verdict::Infeasible if self.over.shear() => "✗ shear",
             Verdict::Infeasible if self.over.tension() => "✗ tension",
+            Verdict::Infeasible if self.over.wrinkles() => "✗ wrinkles",
             Verdict::Infeasible => "✗ over",
             Verdict::Failed => "! failed",
             Verdict::Invalid => "- invalid",
@@ -239,16 +271,35 @@ impl Judged {
                         limits.break_tension_n, figures.max_tension_n, figures.max_tension_err_pct
                     ));
                 }
+                if self.over.wrinkles() {
+                    why.push(format!(
+                        "the wrinkle limit {} mm lies within the wrinkle amplitude {:.2} mm ± \
+                         {:.2} mm",
+                        limits.wrinkle_limit_mm,
+                        figures.max_wrinkle_mm.unwrap_or(0.0),
+                        figures.max_wrinkle_err_mm
+                    ));
+                }
                 format!("MARGINAL: {}", why.join("; "))
             }
-            Verdict::Infeasible => match self.over {
-                Over::Shear => "INFEASIBLE: shear over the locking angle".to_string(),
-                Over::Tension => "INFEASIBLE: yarn tension over the break".to_string(),
-                Over::Both | Over::None => {
-                    "INFEASIBLE: shear over the locking angle, yarn tension over the break"
-                        .to_string()
+            Verdict::Infeasible => {
+                let over = if self.over.is_none() {
+                    Over::of([true, true, false])
+                } else {
+                    self.over
+                };
+                let mut why = Vec::new();
+                if over.shear() {
+                    why.push("shear over the locking angle");
                 }
-            },
+                if over.tension() {
+                    why.push("yarn tension over the break");
+                }
+                if over.wrinkles() {
+                    why.push("wrinkles over the wrinkle limit");
+                }
+                format!("INFEASIBLE: {}", why.join(", "))
+            }
             v => v.word().to_string(),
         }
     }
@@ -364,10 +415,13 @@ mod tests {
                 max_tension_n: tension,
                 max_shear_err_deg: 0.0,
                 max_tension_err_pct: 0.0,
+                max_wrinkle_mm: None,
+                max_wrinkle_err_mm: 0.0,
             },
             limits: Limits {
                 locking_angle_deg: 60.0,
                 break_tension_n: 1000.0,
+                wrinkle_limit_mm: 1.0,
             },
             stroke_reached_mm: 28.0,
             stroke_mm: 28.0,
@@ -444,7 +498,14 @@ mod tests {
         let by_tension = banded(60.5, 1120.0);
         let judged = by_tension.judge();
         assert_eq!(judged.verdict, Verdict::Infeasible);
-        assert_eq!(judged.over, Over::Tension);
+        assert_eq!(
+            judged.over,
+            Over {
+                shear: false,
+                tension: true,
+                wrinkles: false
+            }
+        );
         assert_eq!(judged.label(), "✗ tension");
         assert_eq!(
             sentence(&by_tension),
@@ -454,7 +515,14 @@ mod tests {
         // value, inside its band.
         let by_shear = banded(61.5, 1050.0);
         let judged = by_shear.judge();
-        assert_eq!(judged.over, Over::Shear);
+        assert_eq!(
+            judged.over,
+            Over {
+                shear: true,
+                tension: false,
+                wrinkles: false
+            }
+        );
         assert_eq!(judged.label(), "✗ shear");
         assert_eq!(
             sentence(&by_shear),
@@ -462,14 +530,31 @@ mod tests {
         );
         // Both wholly over.
         let both = banded(61.5, 1120.0).judge();
-        assert_eq!((both.over, both.label()), (Over::Both, "✗ shear"));
+        assert_eq!(
+            (both.over, both.label()),
+            (
+                Over {
+                    shear: true,
+                    tension: true,
+                    wrinkles: false
+                },
+                "✗ shear"
+            )
+        );
         // Marginal: the figures whose band holds the limit; feasible and failed: none.
         let marginal = banded(59.5, 950.0).judge();
         assert_eq!(
             (marginal.verdict, marginal.over),
-            (Verdict::Marginal, Over::Both)
+            (
+                Verdict::Marginal,
+                Over {
+                    shear: true,
+                    tension: true,
+                    wrinkles: false
+                }
+            )
         );
-        assert_eq!(banded(30.0, 500.0).judge().over, Over::None);
+        assert_eq!(banded(30.0, 500.0).judge().over, Over::NONE);
         let stopped = Facts {
             converged: false,
             ..banded(61.5, 1120.0)
@@ -482,24 +567,79 @@ mod tests {
         let limits = Limits {
             locking_angle_deg: 60.0,
             break_tension_n: 1000.0,
+            wrinkle_limit_mm: 1.0,
         };
         let f = banded(60.5, 1120.0).figures;
         let judged = Judged::explain(Verdict::Infeasible, Some(&f), limits);
-        assert_eq!((judged.over, judged.label()), (Over::Tension, "✗ tension"));
+        assert_eq!(
+            (judged.over, judged.label()),
+            (
+                Over {
+                    shear: false,
+                    tension: true,
+                    wrinkles: false
+                },
+                "✗ tension"
+            )
+        );
         // Rounded figures that no longer show a band wholly over: the value over decides.
         let hair = Figures {
             max_tension_n: 1100.0,
             ..f
         };
         let judged = Judged::explain(Verdict::Infeasible, Some(&hair), limits);
-        assert_eq!(judged.over, Over::Both);
+        assert_eq!(
+            judged.over,
+            Over {
+                shear: true,
+                tension: true,
+                wrinkles: false
+            }
+        );
         assert_eq!(
             Judged::explain(Verdict::Failed, Some(&f), limits).label(),
             "! failed"
         );
         assert_eq!(
             Judged::explain(Verdict::Invalid, None, limits).over,
-            Over::None
+            Over::NONE
+        );
+    }
+
+    #[test]
+    fn wrinkles_are_judged_where_the_model_has_bending() {
+        // No bending: no wrinkle figure, whatever the limit.
+        let membrane = facts(30.0, 500.0);
+        assert_eq!(judge(&membrane), Verdict::Feasible);
+        let with = |mm: f64, err: f64| {
+            let mut f = facts(30.0, 500.0);
+            f.figures.max_wrinkle_mm = Some(mm);
+            f.figures.max_wrinkle_err_mm = err;
+            f
+        };
+        assert_eq!(judge(&with(0.5, 0.05)), Verdict::Feasible);
+        // 1.2 ± 0.1 mm against 1 mm: wholly over.
+        let over = with(1.2, 0.1);
+        assert_eq!(over.judge().label(), "✗ wrinkles");
+        assert_eq!(
+            sentence(&over),
+            "INFEASIBLE: wrinkles over the wrinkle limit"
+        );
+        // 0.95 ± 0.1 mm: the limit inside the band.
+        let close = with(0.95, 0.1);
+        assert_eq!(judge(&close), Verdict::Marginal);
+        assert!(close.judge().over.wrinkles());
+        assert_eq!(
+            sentence(&close),
+            "MARGINAL: the wrinkle limit 1 mm lies within the wrinkle amplitude 0.95 mm ± 0.10 mm"
+        );
+        // With the shear over too, both are named; the label gives the shear.
+        let mut both = with(1.2, 0.1);
+        both.figures.max_shear_deg = 61.0;
+        assert_eq!(both.judge().label(), "✗ shear");
+        assert_eq!(
+            sentence(&both),
+            "INFEASIBLE: shear over the locking angle, wrinkles over the wrinkle limit"
         );
     }
 

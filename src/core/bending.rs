@@ -192,12 +192,55 @@ pub fn yarn_hinges(mesh: &Mesh, rigidity: [f64; 2]) -> Option<Vec<Hinge>> {
     Some(hinges)
 }
 
+/// The hinges along yarn lines given as node sequences (any mesh whose yarns run through its
+/// nodes, such as the bias specimen's diamonds), rigidity `b` (N·mm per unit width) for every
+/// line: at each interior node the line stands for the width `A / L̄` of fabric (`A` the node's
+/// share of the initial area, `L̄` the mean of its two initial segment lengths), so
+/// `k = b A / L̄²`; on a yarn grid that is [`yarn_hinges`]'s `b w / L̄`.
+pub fn line_hinges(nodes: &[[f64; 3]], lines: &[Vec<usize>], area: &[f64], b: f64) -> Vec<Hinge> {
+    let len = |a: usize, c: usize| norm(sub(nodes[c], nodes[a]));
+    let mut hinges = Vec::new();
+    for line in lines {
+        for w in line.windows(3) {
+            let l = 0.5 * (len(w[0], w[1]) + len(w[1], w[2]));
+            if l > 0.0 && b > 0.0 {
+                hinges.push(Hinge {
+                    nodes: [w[0], w[1], w[2]],
+                    k: b * area[w[1]] / (l * l),
+                });
+            }
+        }
+    }
+    hinges
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn bent() -> [[f64; 3]; 3] {
         [[0.0, 0.0, 0.0], [2.1, 0.3, 0.4], [3.9, 1.4, -0.2]]
+    }
+
+    #[test]
+    fn line_hinges_on_a_yarn_grid_are_its_yarn_hinges() {
+        let mesh = Mesh::yarn_grid([0.0, 0.0], [12.0, 6.0], [6, 3], std::f64::consts::FRAC_PI_2);
+        let area = crate::core::strip::tributary_areas(&mesh);
+        let id = |i: usize, j: usize| j * 7 + i;
+        let warp: Vec<Vec<usize>> = (0..=3)
+            .map(|j| (0..=6).map(|i| id(i, j)).collect())
+            .collect();
+        let weft: Vec<Vec<usize>> = (0..=6)
+            .map(|i| (0..=3).map(|j| id(i, j)).collect())
+            .collect();
+        let mut by_lines = line_hinges(&mesh.nodes, &warp, &area, 0.3);
+        by_lines.extend(line_hinges(&mesh.nodes, &weft, &area, 0.5));
+        let by_grid = yarn_hinges(&mesh, [0.3, 0.5]).unwrap();
+        assert_eq!(by_lines.len(), by_grid.len());
+        for h in &by_grid {
+            let same = by_lines.iter().find(|g| g.nodes == h.nodes).unwrap();
+            assert!((same.k - h.k).abs() < 1e-12 * h.k, "{:?} {:?}", same, h);
+        }
     }
 
     #[test]

@@ -46,6 +46,8 @@ pub struct EulerStripResult {
     pub force_n: Vec<f64>,
     /// The deflection at mid-length below the clamps' plane (mean over the width), mm.
     pub amplitude_mm: Vec<f64>,
+    /// The wrinkle figure of the strip ([`crate::core::wrinkle`], the clamps anchored), mm.
+    pub wrinkle_mm: Vec<f64>,
     pub failure: Option<Failure>,
 }
 
@@ -76,6 +78,7 @@ impl EulerStripProblem {
             shortening_mm: vec![0.0],
             force_n: vec![0.0],
             amplitude_mm: vec![0.0],
+            wrinkle_mm: vec![0.0],
             failure: None,
         };
         let q = self.trigger_sag_mm * 384.0 * self.bending_rigidity[0] / self.length.powi(4);
@@ -116,6 +119,9 @@ impl EulerStripProblem {
             out.shortening_mm.push(d);
             out.force_n.push(-force);
             out.amplitude_mm.push(amp);
+            let anchored: Vec<bool> = (0..x.len()).map(|i| clamped(column(i))).collect();
+            let w = crate::core::wrinkle::wrinkles(&mesh, &x, &anchored);
+            out.wrinkle_mm.push(w.map_or(0.0, |w| w.max_mm));
         }
         out
     }
@@ -123,11 +129,11 @@ impl EulerStripProblem {
 
 /// The clamps from one point of the curve to the next: the moving clamp's x from `−from` to
 /// `−to` along the load path, the rest held.
-struct Shortening<'a> {
-    dofs: &'a [usize],
-    moving: &'a [bool],
-    from: f64,
-    to: f64,
+pub(crate) struct Shortening<'a> {
+    pub(crate) dofs: &'a [usize],
+    pub(crate) moving: &'a [bool],
+    pub(crate) from: f64,
+    pub(crate) to: f64,
 }
 
 impl Prescribed for Shortening<'_> {

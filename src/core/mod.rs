@@ -8,6 +8,7 @@
 
 pub mod bending;
 pub mod bias;
+pub mod bias_wrinkle;
 pub mod cantilever;
 pub mod contact;
 pub mod drawing;
@@ -21,3 +22,5 @@ pub mod solver;
 pub mod strip;
 pub mod toe;
 pub mod tools;
+pub mod trigger;
+pub mod wrinkle;

@@ -99,6 +99,7 @@ impl RunSummary {
             self.break_tension_n,
             100.0 * self.max_tension_n / self.break_tension_n
         );
+        self.write_wrinkles(out);
         let _ = writeln!(
             out,
             "one element  {:.1}° of shear, {:.1} N of tension at the most loaded element (the figures above are means over a disc of {:.2} mm radius)",
@@ -118,6 +119,29 @@ impl RunSummary {
         );
         self.write_solver(out);
         self.write_accuracy(out);
+    }
+
+    /// The wrinkle amplitude with its place, error and limit, or why there is none.
+    fn write_wrinkles(&self, out: &mut String) {
+        let Some(w) = self.max_wrinkle_mm else {
+            let _ = writeln!(
+                out,
+                "wrinkles     not modelled: the paper's membrane has no bending (give \
+                 fabric.bending_rigidity)"
+            );
+            return;
+        };
+        let [x, y, z] = self.max_wrinkle_at.unwrap_or([0.0; 3]);
+        let err = self
+            .max_wrinkle_err_mm
+            .map(|e| format!(" ± {e:.2}"))
+            .unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "wrinkles     {w:.2}{err} mm peak to valley along a yarn off the tools, around \
+             ({x:.1}, {y:.1}, {z:.1}) mm; wrinkle limit {} mm",
+            self.wrinkle_limit_mm
+        );
     }
 
     /// How the solver went: its steps, cut-backs, iterations and time, the work out of

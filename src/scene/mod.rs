@@ -205,6 +205,10 @@ impl Scene {
                     .map_or([crate::core::drawing::DEFAULT_COMPRESSION; 2], |cc| {
                         [cc[0] / c[0], cc[1] / c[1]]
                     }),
+                trigger: crate::core::trigger::Trigger {
+                    pressure_mpa: self.numerics.trigger_pa * 1e-6,
+                    seed: self.numerics.trigger_seed,
+                },
             })
     }
 

@@ -116,6 +116,9 @@ pub struct Fabric {
     /// Yarn breaking tension, N. An assumption: the paper gives no value for its glass fabric;
     /// 1500 N is a round figure for a glass roving of that stiffness.
     pub break_tension_n: f64,
+    /// The largest wrinkle amplitude a part may have, mm (`core::wrinkle`): judged where the
+    /// fabric has bending, the paper's membrane having no wrinkles to judge.
+    pub wrinkle_limit_mm: f64,
     /// Initial angle between warp and weft, degrees.
     pub yarn_angle_deg: f64,
     /// The in-plane shear moment per unit initial area `M(γ) = k1 γ + k3 γ³ + k5 γ⁵`,
@@ -151,6 +154,7 @@ impl Default for Fabric {
             undulation: p.undulation,
             locking_angle_deg: 60.0,
             break_tension_n: 1500.0,
+            wrinkle_limit_mm: DEFAULT_WRINKLE_LIMIT_MM,
             yarn_angle_deg: 90.0,
             shear_moment: None,
             shear_locking: false,
@@ -160,6 +164,10 @@ impl Default for Fabric {
         }
     }
 }
+
+/// The wrinkle limit of a scene that gives none, mm: a wave of about two thicknesses of a
+/// glass plain weave, which shows as a fold in a moulded part.
+pub const DEFAULT_WRINKLE_LIMIT_MM: f64 = 1.0;
 
 /// The tool radii `[r, rp, rm]` (mm) of the default scene: the paper's open box.
 pub const DEFAULT_BOX_RADII: [f64; 3] = [10.0, 15.0, 10.0];
@@ -456,6 +464,11 @@ pub struct Numerics {
     pub stabilisation: f64,
     /// Contact penalty, as a multiple of the cells' tensile stiffness.
     pub penalty_factor: f64,
+    /// With bending: the root-mean-square of the seeded out-of-plane pressure that lets a flat
+    /// blank buckle (`core::trigger`), Pa.
+    pub trigger_pa: f64,
+    /// With bending: the seed of the trigger's pattern.
+    pub trigger_seed: u64,
 }
 
 impl Default for Numerics {
@@ -464,6 +477,8 @@ impl Default for Numerics {
         Numerics {
             stabilisation: p.solver.stabilisation,
             penalty_factor: p.penalty_factor,
+            trigger_pa: crate::core::trigger::DEFAULT_TRIGGER_MPA * 1e6,
+            trigger_seed: 1,
         }
     }
 }

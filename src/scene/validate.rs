@@ -130,6 +130,10 @@ impl Scene {
             let what = "a yarn breaking tension > 0 N";
             broken("fabric.break_tension_n", Num(f.break_tension_n), what)
         })?;
+        ok_if(pos(f.wrinkle_limit_mm), || {
+            let what = "a wrinkle limit > 0 mm";
+            broken("fabric.wrinkle_limit_mm", Num(f.wrinkle_limit_mm), what)
+        })?;
         if let Some(k) = f.shear_moment {
             ok_if(crate::core::shear::ShearLaw::new(k).rises(), || {
                 broken(
@@ -450,6 +454,12 @@ impl Scene {
         ok_if(pos(n.penalty_factor), || {
             let what = "a contact penalty factor > 0";
             broken("numerics.penalty_factor", Num(n.penalty_factor), what)
+        })?;
+        // A trigger above a kilopascal is a load, not an imperfection.
+        ok_if(n.trigger_pa >= 0.0 && n.trigger_pa <= 1000.0, || {
+            let what = "a trigger pressure from 0 to 1000 Pa (a seeded imperfection, far \
+                        below what the tools press with)";
+            broken("numerics.trigger_pa", Num(n.trigger_pa), what)
         })
     }
 }
@@ -505,6 +515,9 @@ mod tests {
             ("tools.rm=0", "tools.rm"),
             ("numerics.penalty_factor=0", "numerics.penalty_factor"),
             ("numerics.stabilisation=-1", "numerics.stabilisation"),
+            ("numerics.trigger_pa=-1", "numerics.trigger_pa"),
+            ("numerics.trigger_pa=5000", "numerics.trigger_pa"),
+            ("fabric.wrinkle_limit_mm=0", "fabric.wrinkle_limit_mm"),
         ] {
             let e = parse("", &[set]).unwrap_err();
             assert_eq!(e.key.as_deref(), Some(key), "{set}: {e}");

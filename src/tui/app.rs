@@ -155,10 +155,27 @@ pub struct App {
     pub(super) colour: bool,
     /// Where the next export goes by default.
     pub(super) export_dir: PathBuf,
-    /// The detail shows the yarn tension map instead of the shear map.
-    pub(super) detail_tension: bool,
+    /// Which map the detail shows: the shear, the yarn tension or the wrinkles.
+    pub(super) detail_map: DetailMap,
     /// Each design's own files (maps, VTU), by id: written, or being written (empty).
     pub(super) design_files: HashMap<String, Result<Vec<PathBuf>, WorkError>>,
+}
+
+/// The map the detail shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum DetailMap {
+    Shear,
+    /// The larger yarn tension of each element (`t`).
+    Tension,
+    /// The wrinkle amplitude (`z`), where the scene has bending.
+    Wrinkles,
+}
+
+impl DetailMap {
+    /// `map` if it is not shown, else back to the shear: what its key does.
+    pub(super) fn toggled(self, map: DetailMap) -> DetailMap {
+        if self == map { DetailMap::Shear } else { map }
+    }
 }
 
 pub(super) fn entries_of(plan: &Plan) -> Vec<Entry> {
@@ -241,7 +258,7 @@ impl App {
             fields: HashMap::new(),
             colour,
             export_dir,
-            detail_tension: false,
+            detail_map: DetailMap::Shear,
             design_files: HashMap::new(),
         }
     }

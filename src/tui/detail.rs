@@ -8,9 +8,9 @@ use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
 
-use crate::study::sweep::StoredField;
+use crate::study::sweep::{Row, StoredField};
 
-use super::app::{App, Entry};
+use super::app::{App, DetailMap, Entry};
 use super::shear_map::{ShearMap, colour, shade};
 use super::style::{Styles, verdict_cell};
 use crate::accuracy::Accuracy;
@@ -136,6 +136,7 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
     let Limits {
         locking_angle_deg: locking,
         break_tension_n: breaking,
+        ..
     } = entry.limits;
     let accuracy = entry.accuracy.unwrap_or_else(|| {
         Accuracy::of_element_size(app.table_plan.base_scene.mesh.element_size)
@@ -171,6 +172,7 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
             Span::raw(format!(" ±{tension_err:.0} % (break {breaking} N)")),
         ]));
     }
+    lines.extend(wrinkle_line(r, entry.limits.wrinkle_limit_mm, st));
     if let Some(f) = r.punch_force_n {
         lines.push(Line::raw(format!(
             "punch force {:.2} kN ±{force_err:.1} %",
@@ -191,6 +193,20 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
     }
     lines.push(files_line(app, entry, st));
     lines
+}
+
+/// The wrinkle amplitude with its error and limit, where the design has one (bending).
+fn wrinkle_line<'a>(r: &Row, limit: f64, st: &Styles) -> Option<Line<'a>> {
+    let w = r.max_wrinkle_mm?;
+    let err = r.max_wrinkle_err_mm.unwrap_or(0.0);
+    Some(Line::from(vec![
+        Span::raw("wrinkles "),
+        Span::styled(
+            format!("{w:.2} mm"),
+            if w > limit { st.bad() } else { st.good() },
+        ),
+        Span::raw(format!(" ±{err:.2} mm (limit {limit} mm)")),
+    ]))
 }
 
 /// Where the design's own files are, or how to get them.
@@ -228,14 +244,30 @@ fn files_line<'a>(app: &App, entry: &Entry, st: &Styles) -> Line<'a> {
 
 /// The design's shear (or yarn tension) map, its caption and the colour bar.
 fn render_field(app: &App, field: &StoredField, area: Rect, buf: &mut Buffer, st: &Styles) {
-    let tension = app.detail_tension && !field.tension_n.is_empty();
+    let tension = app.detail_map == DetailMap::Tension && !field.tension_n.is_empty();
+    let wrinkles = app.detail_map == DetailMap::Wrinkles && !field.wrinkle_mm.is_empty();
     let [map, bar] = Layout::vertical([Constraint::Min(2), Constraint::Length(3)]).areas(area);
     let max_at = field
         .max_at
         .map(|p| format!(" at ({:.0}, {:.0}) mm", p[0], p[1]))
         .unwrap_or_default();
     let (quads, values, limit, top, caption, unit, limit_name);
-    if tension {
+    if wrinkles {
+        let (q, v) = crate::report::sweep::full_blank_of(field, &field.wrinkle_mm);
+        let largest = v.iter().copied().fold(0.0, f64::max);
+        limit = field.wrinkle_limit_mm;
+        top = if largest >= limit {
+            1.1 * largest
+        } else {
+            limit.max(1e-3)
+        };
+        caption = format!(
+            "wrinkles, peak to valley {:.2} mm (limit {} mm)",
+            field.max_wrinkle_mm.unwrap_or(largest),
+            limit
+        );
+        (quads, values, unit, limit_name) = (q, v, " mm", "limit");
+    } else if tension {
         let (q, v) = crate::report::sweep::full_blank_of(field, &field.tension_n);
         let largest = v.iter().copied().fold(0.0, f64::max);
         limit = field.break_tension_n;
@@ -254,7 +286,15 @@ fn render_field(app: &App, field: &StoredField, area: Rect, buf: &mut Buffer, st
         let (q, v) = crate::report::sweep::full_blank(field);
         limit = field.locking_angle_deg;
         top = v.iter().copied().fold(1.1 * limit, f64::max);
-        caption = format!("shear, cell peak {:.1}°{max_at}", field.max_shear_deg);
+        let asked = if app.detail_map == DetailMap::Wrinkles {
+            " (no wrinkle map: the scene has no bending, fabric.bending_rigidity)"
+        } else {
+            ""
+        };
+        caption = format!(
+            "shear, cell peak {:.1}°{max_at}{asked}",
+            field.max_shear_deg
+        );
         (quads, values, unit, limit_name) = (q, v, "°", "locking");
     }
     let [caption_area, map] =

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use super::app::{App, Command, Focus, Mode, RunState};
+use super::app::{App, Command, DetailMap, Focus, Mode, RunState};
 use super::params::Target;
 
 impl App {
@@ -36,7 +36,12 @@ impl App {
                     KeyCode::Up | KeyCode::Char('k') => self.move_selection(-1),
                     KeyCode::Down | KeyCode::Char('j') => self.move_selection(1),
                     KeyCode::Char('?') => self.mode = Mode::Help,
-                    KeyCode::Char('t') => self.detail_tension = !self.detail_tension,
+                    KeyCode::Char('t') => {
+                        self.detail_map = self.detail_map.toggled(DetailMap::Tension)
+                    }
+                    KeyCode::Char('z') => {
+                        self.detail_map = self.detail_map.toggled(DetailMap::Wrinkles)
+                    }
                     KeyCode::Char('+') => return self.rerun_selected(),
                     KeyCode::Char('w') => return self.write_selected_files(),
                     _ => self.mode = Mode::Normal,
@@ -136,7 +141,8 @@ impl App {
             }
             KeyCode::Char('r') => return self.start(),
             KeyCode::Char('m') => return self.rerun_marginal(),
-            KeyCode::Char('t') => self.detail_tension = !self.detail_tension,
+            KeyCode::Char('t') => self.detail_map = self.detail_map.toggled(DetailMap::Tension),
+            KeyCode::Char('z') => self.detail_map = self.detail_map.toggled(DetailMap::Wrinkles),
             KeyCode::Char('+') if self.focus == Focus::Results => return self.rerun_selected(),
             KeyCode::Char('w') if self.focus == Focus::Results => {
                 return self.write_selected_files();

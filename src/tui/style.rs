@@ -92,6 +92,8 @@ mod tests {
             map: None,
             verdict,
             failure: None,
+            max_wrinkle_mm: None,
+            max_wrinkle_err_mm: None,
         });
         app
     }

@@ -433,6 +433,7 @@ fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
     let Limits {
         locking_angle_deg: locking,
         break_tension_n: breaking,
+        ..
     } = e.limits;
     let r = e.row.as_ref();
     let err = r
@@ -514,7 +515,9 @@ fn render_keys(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
     let keys = match &app.mode {
         Mode::Editing { .. } => "type · Enter keep · Esc drop",
         Mode::Exporting { .. } => "type a folder · Enter export · Esc drop",
-        Mode::Detail => "↑↓ design · t shear/tension · + finer · w PNG/VTU · Esc back · q quit",
+        Mode::Detail => {
+            "↑↓ design · t tension · z wrinkles · + finer · w PNG/VTU · Esc back · q quit"
+        }
         _ if app.running() => "c cancel · s sort · f feasible · Enter detail · ? help · q quit",
         _ => "r run · e export · s sort · f feasible · Tab panel · Enter · ? help · q quit",
     };

@@ -101,7 +101,7 @@ fn rows_equal_run_one_row_per_design_and_invalid_designs_are_listed() {
     let (header, rows) = read_csv(&out.join("results.csv"));
     assert_eq!(
         header.join(","),
-        "r,rp,rm,friction,holder_pressure,max_shear_deg,max_tension_n,punch_force_n,max_shear_err_deg,max_tension_err_pct,punch_force_err_pct,feasible,converged,wall_s,map,design,verdict,failure"
+        "r,rp,rm,friction,holder_pressure,max_shear_deg,max_tension_n,punch_force_n,max_shear_err_deg,max_tension_err_pct,punch_force_err_pct,feasible,converged,wall_s,map,design,verdict,failure,max_wrinkle_mm,max_wrinkle_err_mm"
     );
     assert_eq!(rows.len(), 6, "one row per design");
     let ids: HashSet<&str> = rows.iter().map(|r| r["design"].as_str()).collect();
@@ -424,6 +424,31 @@ fn write_csv(path: &Path, header: &[String], rows: &[BTreeMap<String, String>]) 
         w.write_record(names).unwrap();
     }
     w.flush().unwrap();
+}
+
+/// A `results.csv` written before the wrinkle columns (the same columns without them) is
+/// this sweep's: its rows are kept on `--resume` and the file is written again with them.
+#[test]
+fn a_results_file_from_before_the_wrinkle_columns_resumes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let file = sweep_file(dir, "grid.toml", GRID);
+    sweep(dir, &file, "out", &[]);
+    let csv = dir.join("out/results.csv");
+    let (header, all) = read_csv(&csv);
+    let older: Vec<String> = header
+        .iter()
+        .filter(|h| !h.starts_with("max_wrinkle"))
+        .cloned()
+        .collect();
+    assert_eq!(older.len() + 2, header.len());
+    write_csv(&csv, &older, &all);
+    let o = sweep(dir, &file, "out", &["--resume"]);
+    let err = text(&o.stderr);
+    assert!(err.contains("kept 6 rows"), "{err}");
+    let (again, rows) = read_csv(&csv);
+    assert_eq!(again, header);
+    assert_eq!(comparable(&rows), comparable(&all));
 }
 
 #[test]

@@ -56,7 +56,8 @@ fn a_new_break_tension_judges_the_rows_again_without_running() {
         app.entries()[7].limits,
         wovenform::verdict::Limits {
             locking_angle_deg: 60.0,
-            break_tension_n: 350.0
+            break_tension_n: 350.0,
+            wrinkle_limit_mm: 1.0
         }
     );
     assert!(

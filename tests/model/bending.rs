@@ -201,3 +201,29 @@ fn stiffer_compression_buckles_sooner_to_the_same_plateau() {
     let closed = 2.0 / std::f64::consts::PI * (100.0f64 * 1.0).sqrt();
     assert!((r.amplitude_mm[last] / closed - 1.0).abs() < 0.1);
 }
+
+/// The wrinkle figure (`core::wrinkle`) measures the buckled strip's height from the clamps'
+/// chord: the closed form's amplitude past buckling, within 10 %, and nothing while flat.
+#[test]
+fn the_wrinkle_figure_of_the_euler_strip_is_its_amplitude() {
+    let (b, w, l) = (0.08, 10.0, 100.0);
+    let critical = 4.0 * std::f64::consts::PI.powi(2) * b * w / (l * l);
+    let cc = 1e-5 * CellParams::PAPER_GLASS.c[0];
+    let delta_c = critical / (w * cc / (CellParams::PAPER_GLASS.l0[1] * l));
+    let r = euler(1e-5, 0.001);
+    let mut checked = 0;
+    for i in 1..r.wrinkle_mm.len() {
+        let (d, wr) = (r.shortening_mm[i], r.wrinkle_mm[i]);
+        if d < 0.8 * delta_c {
+            assert!(wr < 0.05, "Δ {d}: wrinkle {wr} mm while flat");
+        } else if d > 1.4 * delta_c {
+            let closed = 2.0 / std::f64::consts::PI * (l * (d - delta_c)).sqrt();
+            assert!(
+                (wr / closed - 1.0).abs() < 0.1,
+                "Δ {d}: {wr} mm against {closed} mm"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3);
+}

@@ -32,3 +32,4 @@ mod solver_checks;
 mod stability;
 mod stl_files;
 mod tools_checks;
+mod wrinkles;

@@ -82,6 +82,8 @@ pub fn row(app: &App, index: usize, figures: (f64, f64, f64, f64)) -> Row {
         map: Some(format!("maps/{}.png", e.design.id)),
         verdict: Verdict::parse(word).expect("a verdict word"),
         failure: None,
+        max_wrinkle_mm: None,
+        max_wrinkle_err_mm: None,
     }
 }
 
@@ -127,6 +129,9 @@ pub fn corner_field(id: &str, peak: f64, locking: f64) -> StoredField {
         draw_in_mm: 12.5,
         area_over_limit_pct: 100.0 * shear.iter().filter(|s| **s > locking).count() as f64
             / shear.len() as f64,
+        wrinkle_mm: Vec::new(),
+        max_wrinkle_mm: None,
+        wrinkle_limit_mm: 1.0,
     }
 }
 

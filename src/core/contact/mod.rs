@@ -98,6 +98,9 @@ pub struct Contact {
     /// Nodes the holder may press during the step.
     held: Vec<u32>,
     reach: f64,
+    /// A dead load along z on each node, N, held at every load factor (the trigger of a
+    /// buckling problem, [`crate::core::trigger`]); empty: none.
+    pub trigger: Vec<f64>,
     /// Load factor and the force of the first tool (the punch) on the fabric (z component, N)
     /// at the end of every accepted step.
     pub punch_history: Vec<(f64, f64)>,
@@ -188,6 +191,7 @@ impl Contact {
             active: vec![(0..n as u32).collect(); nt],
             held: (0..n as u32).collect(),
             reach,
+            trigger: Vec::new(),
             punch_history: Vec::new(),
             memo: std::sync::Mutex::new(vec![Memo::default(); n * nt]),
         }
@@ -560,6 +564,12 @@ impl NodalTerms for Contact {
                     b[i].rest[2][1] += pa * g[1];
                 }
             }
+        }
+        for (i, f) in self.trigger.iter().enumerate() {
+            r[3 * i + 2] -= f;
+            largest[i] = largest[i].max(f.abs());
+            energy -= f * x[i][2];
+            energy_frozen -= f * x[i][2];
         }
         let scale = largest.iter().map(|f| f * f).sum::<f64>().sqrt();
         scale.is_finite().then_some(NodalSums {

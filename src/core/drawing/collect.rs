@@ -4,6 +4,7 @@ use super::{DrawingFailure, DrawingProblem, DrawingResult, LeftOut};
 use crate::core::contact::Contact;
 use crate::core::mesh::Mesh;
 use crate::core::solver::{Model, SolveStats};
+use crate::core::wrinkle::wrinkles;
 
 /// The fields and figures of the model's final state.
 pub(super) fn collect(
@@ -32,6 +33,12 @@ pub(super) fn collect(
             .collect()
     };
     let punch_work_nmm = punch_work(&force_history);
+    let status = contact_status(contact, lambda, &x);
+    let (t11_n, t22_n) = (mean(0), mean(1));
+    let wrinkle_mm = problem.bending.and_then(|_| {
+        let anchored: Vec<bool> = status.iter().map(|&c| c != 0).collect();
+        wrinkles(&model.mesh, &x, &anchored).map(|w| w.per_node_mm)
+    });
     let unbalanced_work_share = if punch_work_nmm > 0.0 {
         sym * stats.unbalanced_work / punch_work_nmm
     } else {
@@ -44,10 +51,11 @@ pub(super) fn collect(
         element_size_mm: problem.element_size,
         cell_mm: problem.fabric.cell_mm(),
         shear_deg: model.shear_angles_deg(),
-        t11_n: mean(0),
-        t22_n: mean(1),
+        t11_n,
+        t22_n,
         tension_max_n: model.max_tension_n(),
-        contact: contact_status(contact, lambda, &x),
+        contact: status,
+        wrinkle_mm,
         stroke_reached_mm: lambda * problem.stroke,
         punch_force_n,
         force_history,

@@ -22,6 +22,7 @@ use super::mesh::Mesh;
 use super::solver::{LinearPrescribed, Model, SolveStats, Solver, SolverOptions};
 use super::tools::Tool;
 use super::tools::mesh_tool::MeshTool;
+use super::trigger::Trigger;
 use std::sync::Arc;
 
 /// The toe of the drawings' yarn law ([`crate::core::toe`]): the slack/taut kink rounded over a
@@ -179,6 +180,8 @@ pub struct Bending {
     pub rigidity: [f64; 2],
     /// The yarns' stiffness in compression, as fractions of `C`.
     pub compression: [f64; 2],
+    /// What makes the blank leave its plane where it may ([`crate::core::trigger`]).
+    pub trigger: Trigger,
 }
 
 /// The yarns' compressive stiffness, as a fraction of `C`, when a scene gives bending rigidity
@@ -306,7 +309,11 @@ impl DrawingProblem {
             band: h,
         });
         let (area, cells) = node_shares(model);
-        Contact::new(
+        let trigger = self
+            .bending
+            .map(|b| b.trigger.forces(&model.mesh.nodes, &area))
+            .unwrap_or_default();
+        let mut contact = Contact::new(
             tools,
             holder,
             ContactOptions {
@@ -320,7 +327,9 @@ impl DrawingProblem {
             &cells,
             model.law.stiffness_per_cell(),
             2.0 * h,
-        )
+        );
+        contact.trigger = trigger;
+        contact
     }
 }
 
@@ -369,6 +378,8 @@ pub enum LeftOut {
     QuarterSymmetry,
     /// The whole blank is solved: the tools are meshes, whose symmetry is not known.
     QuarterSymmetryUnknown,
+    /// The whole blank is solved: the fabric bends, and wrinkles are not symmetric.
+    QuarterSymmetryWrinkles,
     /// The linear yarn law `T = C max(ε, 0)` stands for the woven one.
     Undulation,
     /// No blank holder (pressure 0).
@@ -383,6 +394,9 @@ impl std::fmt::Display for LeftOut {
             LeftOut::QuarterSymmetry => "quarter symmetry (yarns not along both axes)",
             LeftOut::QuarterSymmetryUnknown => {
                 "quarter symmetry (mesh tools: the whole blank unless mesh.symmetry = \"quarter\")"
+            }
+            LeftOut::QuarterSymmetryWrinkles => {
+                "quarter symmetry (the fabric bends: wrinkles are not symmetric)"
             }
             LeftOut::Undulation => "undulation (the linear yarn law is used)",
             LeftOut::Holder => "blank holder (pressure 0)",
@@ -459,6 +473,8 @@ impl DrawingProblem {
         if !self.quarter_applies() {
             left_out.push(if matches!(self.tooling, Tooling::Mesh { .. }) {
                 LeftOut::QuarterSymmetryUnknown
+            } else if self.bending.is_some() && (self.yarn_angle_deg - 90.0).abs() < 1e-9 {
+                LeftOut::QuarterSymmetryWrinkles
             } else {
                 LeftOut::QuarterSymmetry
             });

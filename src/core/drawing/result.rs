@@ -84,6 +84,9 @@ pub struct DrawingResult {
     pub tension_max_n: Vec<f64>,
     /// Contact status of each node: 0 free, 1 punch, 2 die, 3 die and holder.
     pub contact: Vec<u8>,
+    /// The wrinkle amplitude through each node, mm ([`crate::core::wrinkle`]), when the fabric
+    /// has bending; `None` for the paper's membrane, which has no wrinkles to show.
+    pub wrinkle_mm: Option<Vec<f64>>,
     /// Punch stroke reached, mm.
     pub stroke_reached_mm: f64,
     /// Punch force on the whole blank, N, and its history against the stroke (mm, N).
@@ -123,6 +126,7 @@ impl DrawingResult {
             t22_n: vec![0.0; ne],
             tension_max_n: vec![0.0; ne],
             contact: vec![0; nn],
+            wrinkle_mm: None,
             stroke_reached_mm: 0.0,
             punch_force_n: 0.0,
             force_history: Vec::new(),
@@ -201,6 +205,17 @@ impl DrawingResult {
     /// The largest yarn tension of any element, N.
     pub fn max_tension_element_n(&self) -> f64 {
         self.tension_max_n.iter().fold(0.0, |a, &b| a.max(b))
+    }
+
+    /// The largest wrinkle amplitude, mm, and where (the final position of a node of its span,
+    /// mm), when the fabric has bending ([`DrawingResult::wrinkle_mm`]).
+    pub fn max_wrinkle(&self) -> Option<(f64, [f64; 3])> {
+        let w = self.wrinkle_mm.as_ref()?;
+        let (i, a) = w
+            .iter()
+            .enumerate()
+            .fold((0, 0.0), |a, (i, &v)| if v > a.1 { (i, v) } else { a });
+        Some((a, self.positions.get(i).copied().unwrap_or([0.0; 3])))
     }
 
     /// Why this result cannot be trusted even though it converged (empty: it can).

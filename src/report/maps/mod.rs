@@ -140,6 +140,7 @@ impl Outline {
 pub enum Unit {
     Degrees,
     Newtons,
+    Millimetres,
 }
 
 impl Unit {
@@ -148,6 +149,7 @@ impl Unit {
             Unit::Degrees => format!("{v:.1}°"),
             Unit::Newtons if v.abs() >= 100.0 => format!("{v:.0} N"),
             Unit::Newtons => format!("{v:.1} N"),
+            Unit::Millimetres => return format!("{v:.2} mm"),
         };
         s.replace(".0°", "°").replace(".0 N", " N")
     }
@@ -250,6 +252,46 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
         size: (1100, 900),
         scale_max: None,
     }
+}
+
+/// The map of the wrinkle amplitude (`core::wrinkle`, mm): each element the largest of its
+/// nodes'. `None` for the paper's membrane, which has no bending and no wrinkles.
+pub fn wrinkle_map(result: &DrawingResult, ctx: &MapContext, limit_mm: f64) -> Option<FieldMap> {
+    let per_node = result.wrinkle_mm.as_ref()?;
+    let (max, at) = result.max_wrinkle()?;
+    let values: Vec<f64> = result
+        .mesh
+        .quads
+        .iter()
+        .map(|q| q.iter().map(|&n| per_node[n]).fold(0.0, f64::max))
+        .collect();
+    let (quads, values) = full_blank(result, &values);
+    Some(FieldMap {
+        title: format!(
+            "{}: wrinkles {} peak to valley (limit {}) — {}",
+            ctx.scene,
+            Unit::Millimetres.show(max),
+            Unit::Millimetres.show(limit_mm),
+            ctx.verdict
+        ),
+        subtitle: format!(
+            "Wrinkle amplitude along the yarns, off the tools: {}",
+            what_is_drawn(result, ctx)
+        ),
+        design: ctx.design.to_string(),
+        fit_to_field: true,
+        quads,
+        values,
+        limit: limit_mm,
+        limit_name: "wrinkle limit".into(),
+        bar_caption: "wrinkle (mm)".into(),
+        unit: Unit::Millimetres,
+        max_at: (max > 0.0).then_some([at[0], at[1]]),
+        peak: Some(max),
+        outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
+        size: (1100, 900),
+        scale_max: None,
+    })
 }
 
 /// The die opening in plan as a closed polyline, mm.
@@ -382,6 +424,10 @@ impl FieldMap {
         at: [f64; 2],
     ) -> Result<(), PlotError> {
         let label = match self.peak {
+            // The wrinkle amplitude is a span's, not a cell's mean.
+            Some(peak) if self.unit == Unit::Millimetres => {
+                format!("peak to valley {}", self.unit.show(peak))
+            }
             Some(peak) => format!("cell peak {}", self.unit.show(peak)),
             None => format!(
                 "max {}",

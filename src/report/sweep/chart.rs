@@ -415,6 +415,8 @@ mod tests {
                         _ => Verdict::Infeasible,
                     },
                     failure: None,
+                    max_wrinkle_mm: None,
+                    max_wrinkle_err_mm: None,
                 }
             })
             .collect()

@@ -47,6 +47,15 @@ pub struct StoredField {
     pub draw_in_mm: f64,
     #[serde(default)]
     pub area_over_limit_pct: f64,
+    /// The wrinkle amplitude of each element (the largest of its nodes', mm, to 0.001 mm), the
+    /// largest and the limit: empty and `None` for the paper's membrane (no bending) and in
+    /// fields written before wrinkles were kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wrinkle_mm: Vec<f64>,
+    #[serde(default)]
+    pub max_wrinkle_mm: Option<f64>,
+    #[serde(default)]
+    pub wrinkle_limit_mm: f64,
 }
 
 impl StoredField {
@@ -116,6 +125,19 @@ impl StoredField {
             max_tension_n: r3(summary.max_tension_n),
             draw_in_mm: r3(summary.draw_in_mm),
             area_over_limit_pct: r3(summary.area_over_limit_pct),
+            wrinkle_mm: result
+                .wrinkle_mm
+                .as_ref()
+                .map(|w| {
+                    let quads = &result.mesh.quads;
+                    quads
+                        .iter()
+                        .map(|q| r3(q.iter().map(|&n| w[n]).fold(0.0, f64::max)))
+                        .collect()
+                })
+                .unwrap_or_default(),
+            max_wrinkle_mm: summary.max_wrinkle_mm.map(r3),
+            wrinkle_limit_mm: summary.wrinkle_limit_mm,
         }
     }
 }

@@ -14,8 +14,10 @@ use crate::summary::RunSummary;
 use crate::verdict::{Figures, Judged, Limits, Verdict};
 
 /// The columns of `results.csv` after the parameters, in order: the contract's figures, then
-/// the design's id, its verdict and why it failed or is invalid.
-pub const FIGURE_COLUMNS: [&str; 13] = [
+/// the design's id, its verdict and why it failed or is invalid, then the wrinkle amplitude and
+/// its error (added after the rest, at the end so that every other column keeps its place;
+/// empty for the paper's membrane).
+pub const FIGURE_COLUMNS: [&str; 15] = [
     "max_shear_deg",
     "max_tension_n",
     "punch_force_n",
@@ -29,7 +31,12 @@ pub const FIGURE_COLUMNS: [&str; 13] = [
     "design",
     "verdict",
     "failure",
+    "max_wrinkle_mm",
+    "max_wrinkle_err_mm",
 ];
+
+/// The columns a `results.csv` written before them may lack (read as empty).
+pub const LATER_COLUMNS: [&str; 2] = ["max_wrinkle_mm", "max_wrinkle_err_mm"];
 
 /// One row of the results: a design and what came of it.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,6 +60,9 @@ pub struct Row {
     pub map: Option<String>,
     pub verdict: Verdict,
     pub failure: Option<String>,
+    /// The wrinkle amplitude and its error, mm (to 3 decimals), when the scene has bending.
+    pub max_wrinkle_mm: Option<f64>,
+    pub max_wrinkle_err_mm: Option<f64>,
 }
 
 impl Serialize for Row {
@@ -83,6 +93,8 @@ impl Serialize for Row {
         m.serialize_entry("map", &self.map)?;
         m.serialize_entry("verdict", &self.verdict)?;
         m.serialize_entry("failure", &self.failure)?;
+        m.serialize_entry("max_wrinkle_mm", &self.max_wrinkle_mm)?;
+        m.serialize_entry("max_wrinkle_err_mm", &self.max_wrinkle_err_mm)?;
         m.end()
     }
 }
@@ -132,6 +144,8 @@ impl Row {
             self.design.clone(),
             self.verdict.word().to_string(),
             self.failure.clone().unwrap_or_default(),
+            opt(self.max_wrinkle_mm, 3),
+            opt(self.max_wrinkle_err_mm, 3),
         ]);
         csv_line(&fields)
     }
@@ -153,6 +167,8 @@ impl Row {
             map: None,
             verdict: Verdict::Invalid,
             failure: Some(reason),
+            max_wrinkle_mm: None,
+            max_wrinkle_err_mm: None,
         }
     }
 
@@ -195,6 +211,8 @@ impl Row {
             failure: s.failure.clone().or_else(|| {
                 (!s.unsound.is_empty()).then(|| format!("not sound: {}", s.unsound.join("; ")))
             }),
+            max_wrinkle_mm: s.max_wrinkle_mm.map(|w| round_to(w, 3)),
+            max_wrinkle_err_mm: s.max_wrinkle_err_mm.map(|w| round_to(w, 3)),
         }
     }
 
@@ -205,6 +223,8 @@ impl Row {
             max_tension_n: self.max_tension_n?,
             max_shear_err_deg: self.max_shear_err_deg.unwrap_or(0.0),
             max_tension_err_pct: self.max_tension_err_pct.unwrap_or(0.0),
+            max_wrinkle_mm: self.max_wrinkle_mm,
+            max_wrinkle_err_mm: self.max_wrinkle_err_mm.unwrap_or(0.0),
         })
     }
 
@@ -270,6 +290,8 @@ impl Row {
             map: text("map"),
             verdict,
             failure: text("failure"),
+            max_wrinkle_mm: num("max_wrinkle_mm").unwrap_or(None),
+            max_wrinkle_err_mm: num("max_wrinkle_err_mm").unwrap_or(None),
         };
         // The parameters written must be the design's (the id's hash says so too).
         for (name, v) in &row.params {

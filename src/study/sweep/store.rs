@@ -13,7 +13,7 @@ use super::field::StoredField;
 use super::folder_error::{StoreError, write_atomic};
 use super::grid::Design;
 use super::plan::Plan;
-use super::rows::{Row, column_names, csv_header, round_to};
+use super::rows::{LATER_COLUMNS, Row, column_names, csv_header, round_to};
 use super::shard::Shard;
 use crate::verdict::Verdict;
 
@@ -254,7 +254,13 @@ fn check_header(
     let expected = column_names(&plan.columns());
     let folder = read_lock(dir).ok().map(|l| column_names(&l.plan.columns()));
     let found: Vec<&str> = found.iter().collect();
-    let same = |names: &[String]| names.iter().map(String::as_str).eq(found.iter().copied());
+    // A file written before the later columns (`LATER_COLUMNS`) lacks them: its rows read
+    // with those figures empty, and the file is written again whole with them.
+    let same = |names: &[String]| {
+        let all = names.iter().map(String::as_str);
+        let earlier = all.clone().filter(|n| !LATER_COLUMNS.contains(n));
+        all.eq(found.iter().copied()) || earlier.eq(found.iter().copied())
+    };
     if same(&expected) || folder.as_deref().is_some_and(same) {
         return Ok(());
     }
