@@ -75,17 +75,19 @@ pub fn sweep_report(
 }
 
 /// The files [`write_run`] writes into its folder.
-pub const RUN_FILES: [&str; 6] = [
+pub const RUN_FILES: [&str; 7] = [
     "summary.json",
     "shear.png",
     "tension.png",
     "shear_developed.png",
     "tension_developed.png",
+    "form.png",
     "result.vtu",
 ];
 
 /// Writes `shear.png`, `tension.png`, their developed views (`shear_developed.png`,
-/// `tension_developed.png`: on the flat blank), `result.vtu`, `summary.json` and, where the
+/// `tension_developed.png`: on the flat blank), `form.png` (the formed blank in 3-D),
+/// `result.vtu`, `summary.json` and, where the
 /// fabric has bending, `wrinkles.png` into `dir`
 /// (created if needed), records them in `summary.files`, and returns their paths. Errors name the file.
 pub fn write_run(
@@ -111,6 +113,8 @@ pub fn write_run(
     maps::shear_developed(result, &ctx, summary.locking_angle_deg).write_png(&shear_flat)?;
     let tension_flat = dir.join("tension_developed.png");
     maps::tension_developed(result, &ctx, summary.break_tension_n).write_png(&tension_flat)?;
+    let form = dir.join("form.png");
+    maps::form_view(result, &ctx, summary.locking_angle_deg).write_png(&form)?;
     let vtu_path = dir.join("result.vtu");
     write_atomic(&vtu_path, vtu_string(result).as_bytes())
         .map_err(io(&vtu_path, "write the VTU file"))?;
@@ -121,6 +125,7 @@ pub fn write_run(
         tension,
         shear_flat,
         tension_flat,
+        form,
         vtu_path,
     ];
     let kinds = [
@@ -129,6 +134,7 @@ pub fn write_run(
         "tension_map",
         "shear_developed_map",
         "tension_developed_map",
+        "form_map",
         "vtu",
     ];
     for (kind, path) in kinds.iter().zip(&written) {

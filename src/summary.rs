@@ -208,10 +208,13 @@ impl RunSummary {
             .as_ref()
             .map(|a| format!(" ({a})"))
             .unwrap_or_default();
+        let holder = match s.process.holder_force {
+            Some(kn) => format!("holder plate {} kN", Num(kn)),
+            None => format!("holder {} MPa", Num(s.process.holder_pressure)),
+        };
         format!(
-            "{tools} · friction {} · holder {} MPa · {} mm elements{level}",
+            "{tools} · friction {} · {holder} · {} mm elements{level}",
             Num(s.process.friction),
-            Num(s.process.holder_pressure),
             Num(s.mesh.element_size)
         )
     }

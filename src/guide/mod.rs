@@ -210,6 +210,7 @@ mod tests {
         full.fabric.bending_rigidity = Some([0.0; 2]);
         full.fabric.compressive_stiffness = Some([0.0; 2]);
         full.fabric.areal_mass = Some(0.0);
+        full.process.holder_force = Some(0.0);
         let mut flat = BTreeMap::new();
         flatten("", &toml::Table::try_from(&full).unwrap(), &mut flat);
         for k in flat.into_keys() {

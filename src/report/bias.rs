@@ -179,5 +179,6 @@ pub fn shear_map(problem: &BiasProblem, result: &BiasResult, locking_angle_deg: 
         outlines: Vec::new(),
         size: (1100, 700),
         scale_max: None,
+        view: None,
     }
 }

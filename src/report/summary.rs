@@ -67,10 +67,14 @@ impl RunSummary {
         }
         let _ = writeln!(out, "scene        {}", self.scene);
         let _ = writeln!(out, "tools        {tools}");
+        let holder = match s.process.holder_force {
+            Some(kn) => format!("holder plate pressed with {kn} kN"),
+            None => format!("holder pressure {} MPa", s.process.holder_pressure),
+        };
         let _ = writeln!(
             out,
-            "process      friction {}, holder pressure {} MPa, stroke {} mm",
-            s.process.friction, s.process.holder_pressure, s.process.stroke
+            "process      friction {}, {holder}, stroke {} mm",
+            s.process.friction, s.process.stroke
         );
         let _ = writeln!(
             out,

@@ -23,13 +23,14 @@ pub fn lookup<'a>(table: &'a toml::Table, key: &str) -> Option<&'a toml::Value> 
 
 /// A value of the shape of `key` when it is a key a scene may leave unset (it has no default:
 /// `fabric.shear_moment`, `fabric.bending_rigidity`, `fabric.compressive_stiffness`,
-/// `fabric.areal_mass`); `None` for every other key.
+/// `fabric.areal_mass`, `process.holder_force`); `None` for every other key.
 pub fn unset_key_shape(key: &str) -> Option<toml::Value> {
     let mut full = Scene::default();
     full.fabric.shear_moment = Some([0.0; 3]);
     full.fabric.bending_rigidity = Some([0.0; 2]);
     full.fabric.compressive_stiffness = Some([0.0; 2]);
     full.fabric.areal_mass = Some(0.0);
+    full.process.holder_force = Some(0.0);
     let table = toml::Table::try_from(&full).ok()?;
     let empty = toml::Table::try_from(Scene::default()).ok()?;
     lookup(&empty, key)

@@ -180,6 +180,7 @@ impl Scene {
         p.blank = self.blank.size.0;
         p.friction = self.process.friction;
         p.holder_pressure = self.process.holder_pressure;
+        p.holder_force_n = self.process.holder_force.map(|kn| 1000.0 * kn);
         p.stroke = self.process.stroke;
         p.element_size = self.mesh.element_size;
         p.symmetry = match self.mesh.symmetry {

@@ -383,6 +383,10 @@ pub struct Process {
     pub friction: f64,
     /// Blank-holder pressure, MPa (0: no holder).
     pub holder_pressure: f64,
+    /// A rigid holder plate pressed with this total force, kN, in place of the pressure on
+    /// each node (`core::contact::holder`): absent by default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub holder_force: Option<f64>,
     /// Punch travel from touching the blank, mm.
     pub stroke: f64,
 }
@@ -393,6 +397,7 @@ impl Default for Process {
         Process {
             friction: p.friction,
             holder_pressure: p.holder_pressure,
+            holder_force: None,
             stroke: p.stroke,
         }
     }

@@ -330,6 +330,12 @@ impl Scene {
             let what = "a blank-holder pressure in [0, 50] MPa";
             broken("process.holder_pressure", Num(p.holder_pressure), what)
         })?;
+        if let Some(f) = p.holder_force {
+            ok_if(f > 0.0 && f <= 10_000.0, || {
+                let what = "a holder force in (0, 10000] kN (a rigid plate pressed with it)";
+                broken("process.holder_force", Num(f), what)
+            })?;
+        }
         ok_if(p.stroke >= MIN_STROKE_MM && p.stroke.is_finite(), || {
             let what = "a punch stroke of at least 0.01 mm (10 µm: less draws nothing a press \
                         could set, and its work is within the solver's tolerance)";
@@ -518,6 +524,7 @@ mod tests {
             ("numerics.trigger_pa=-1", "numerics.trigger_pa"),
             ("numerics.trigger_pa=5000", "numerics.trigger_pa"),
             ("fabric.wrinkle_limit_mm=0", "fabric.wrinkle_limit_mm"),
+            ("process.holder_force=0", "process.holder_force"),
         ] {
             let e = parse("", &[set]).unwrap_err();
             assert_eq!(e.key.as_deref(), Some(key), "{set}: {e}");

@@ -316,6 +316,7 @@ fn run_text_names_units_and_files_in_the_default_folder() {
         "tension.png",
         "shear_developed.png",
         "tension_developed.png",
+        "form.png",
         "result.vtu",
     ] {
         let path = folder.join(name);

@@ -50,6 +50,7 @@ fn setup(cases: &[Case], mu: f64) -> (Contact, Vec<[f64; 3]>, f64) {
         pressure: 1.0,
         die,
         band: 2.5,
+        plate_force_n: None,
     };
     let mut contact = contact_with(tools, Some(holder), mu, cases.len());
     let start: Vec<[f64; 3]> = cases.iter().map(|c| c.start).collect();

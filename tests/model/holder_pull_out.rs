@@ -23,6 +23,37 @@ use wovenform::core::tools::Tool;
 
 #[test]
 fn holder_pull_out_force_is_two_mu_p_s() {
+    let exact = analytic::holder_pull_out_force(0.2, 1.0, 40.0 * 10.0);
+    let pull = pull_out(None);
+    println!(
+        "pull-out: {pull:.3} N, 2μpS = {exact:.3} N, error {:.3} %",
+        100.0 * (pull / exact - 1.0)
+    );
+    assert!(
+        (pull / exact - 1.0).abs() < 0.01,
+        "pull-out {pull} N, 2μpS = {exact} N"
+    );
+}
+
+/// The rigid plate (`Holder::plate_force_n`) pressed with F = p S: the same 2μF, its force
+/// carried by the strip whatever the plate's height.
+#[test]
+fn a_rigid_holder_plate_pulls_out_at_two_mu_f() {
+    let force = 1.0 * 40.0 * 10.0;
+    let exact = analytic::holder_pull_out_force(0.2, 1.0, 40.0 * 10.0);
+    let pull = pull_out(Some(force));
+    assert!(
+        (pull / exact - 1.0).abs() < 0.01,
+        "pull-out {pull} N under a plate of {force} N, 2μF = {exact} N"
+    );
+    // Twice the force, twice the pull.
+    let twice = pull_out(Some(2.0 * force));
+    assert!((twice / (2.0 * exact) - 1.0).abs() < 0.01, "{twice}");
+}
+
+/// The force that pulls the strip out 2 mm under the holder (a pressure of 1 MPa, or a plate
+/// pressed with `plate_force_n` N), μ = 0.2.
+fn pull_out(plate_force_n: Option<f64>) -> f64 {
     let (mu, p) = (0.2, 1.0);
     let die = Tool::box_die([200.0, 200.0], 5.0, 0.0, 10.0);
     let h = 2.0;
@@ -51,6 +82,7 @@ fn holder_pull_out_force_is_two_mu_p_s() {
         pressure: p,
         die,
         band: h,
+        plate_force_n,
     };
     let mut contact = contact_for(&model, vec![die_motion], Some(holder), mu, h);
     let mut solver = Solver::new(&mut model, SolverOptions::default());
@@ -62,14 +94,5 @@ fn holder_pull_out_force_is_two_mu_p_s() {
         )
         .unwrap();
     // The pull balances all the friction on the strip, the pulled nodes' own included.
-    let pull = -contact.tool_force(0, 1.0, &model.positions())[0];
-    let exact = analytic::holder_pull_out_force(mu, p, length * width);
-    println!(
-        "pull-out: {pull:.3} N, 2μpS = {exact:.3} N, error {:.3} %",
-        100.0 * (pull / exact - 1.0)
-    );
-    assert!(
-        (pull / exact - 1.0).abs() < 0.01,
-        "pull-out {pull} N, 2μpS = {exact} N"
-    );
+    -contact.tool_force(0, 1.0, &model.positions())[0]
 }

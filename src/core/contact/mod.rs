@@ -8,10 +8,11 @@
 //! sliding flange carries `2 μ p` per unit area.
 
 pub mod friction;
+mod held;
 pub mod holder;
 pub mod normal;
 
-pub use holder::Holder;
+pub use holder::{Holder, Plate};
 
 use super::solver::{NodalSums, NodalTerms, NodeBlock};
 use super::tools::{Distance, Tool};
@@ -98,6 +99,8 @@ pub struct Contact {
     /// Nodes the holder may press during the step.
     held: Vec<u32>,
     reach: f64,
+    /// The holder's plate at the positions last asked ([`Holder::plate_force_n`]).
+    plate: std::sync::Mutex<Option<Plate>>,
     /// A dead load along z on each node, N, held at every load factor (the trigger of a
     /// buckling problem, [`crate::core::trigger`]); empty: none.
     pub trigger: Vec<f64>,
@@ -191,6 +194,7 @@ impl Contact {
             active: vec![(0..n as u32).collect(); nt],
             held: (0..n as u32).collect(),
             reach,
+            plate: std::sync::Mutex::new(None),
             trigger: Vec::new(),
             punch_history: Vec::new(),
             memo: std::sync::Mutex::new(vec![Memo::default(); n * nt]),
@@ -265,55 +269,11 @@ impl Contact {
         x.iter().map(|p| tool.distance(*p).d < delta).collect()
     }
 
-    /// The holder force on each node at positions `x` (N).
-    pub fn holder_force(&self, x: &[[f64; 3]]) -> Vec<f64> {
-        match &self.holder {
-            Some(h) => x
-                .iter()
-                .zip(&self.area)
-                .map(|(p, a)| h.pressure * a * h.weight(p[0], p[1]).0)
-                .collect(),
-            None => vec![0.0; self.area.len()],
-        }
-    }
-
     /// The friction anchor of node `i` and tool `t` at load `lambda`.
     fn anchor(&self, t: usize, i: usize, lambda: f64) -> [f64; 3] {
         let mut a = self.pairs[t * self.nodes() + i].anchor;
         a[2] += self.tools[t].travel(self.lambda_start, lambda);
         a
-    }
-
-    /// The holder's weight of node `i` at `p` and its gradient, remembered with the node's
-    /// distance to a mesh die (where the flange's interpolation answers it).
-    fn holder_weight(&self, h: &Holder, t: usize, i: usize, p: [f64; 3]) -> (f64, [f64; 2]) {
-        if !matches!(self.tools[t].tool, Tool::Mesh { .. }) {
-            return h.weight(p[0], p[1]);
-        }
-        let mut memo = self.memo.lock().unwrap_or_else(|e| e.into_inner());
-        let m = &mut memo[t * self.nodes() + i];
-        if m.at == Some(p) {
-            if let Some(w) = m.weight {
-                return w;
-            }
-            let w = h.weight(p[0], p[1]);
-            m.weight = Some(w);
-            return w;
-        }
-        h.weight(p[0], p[1])
-    }
-
-    /// The holder part of the friction normal force on the die (the holder face's friction),
-    /// with its gradient.
-    fn holder_normal(&self, t: usize, i: usize, p: [f64; 3]) -> (f64, [f64; 3]) {
-        match &self.holder {
-            Some(h) if !self.tools[t].tool.is_punch() => {
-                let (w, g) = self.holder_weight(h, t, i, p);
-                let pa = h.pressure * self.area[i];
-                (pa * w, [pa * g[0], pa * g[1], 0.0])
-            }
-            _ => (0.0, [0.0; 3]),
-        }
     }
 
     /// Node `i`'s terms with tool `t` at `p`: penalty and friction.
@@ -398,6 +358,7 @@ impl Contact {
 
     /// Takes friction's normal force and normal and the holder's weights at `x`.
     fn set_lag(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        self.update_plate(x);
         let n = x.len();
         for t in 0..self.tools.len() {
             for k in 0..self.active[t].len() {
@@ -528,6 +489,7 @@ impl NodalTerms for Contact {
         r: &mut [f64],
         mut blocks: Option<&mut [NodeBlock]>,
     ) -> Option<NodalSums> {
+        self.update_plate(x);
         let mut largest = vec![0.0f64; x.len()];
         let (mut energy, mut energy_frozen) = (0.0, 0.0);
         let tangent = blocks.is_some();
@@ -547,24 +509,9 @@ impl NodalTerms for Contact {
                 }
             }
         }
-        if let Some(h) = &self.holder {
-            for &i in &self.held {
-                let i = i as usize;
-                let (mut w, mut g) = h.weight(x[i][0], x[i][1]);
-                if self.options.lagged {
-                    (w, g) = (self.frozen_weight[i], [0.0; 2]);
-                }
-                let pa = h.pressure * self.area[i];
-                r[3 * i + 2] += pa * w;
-                largest[i] = largest[i].max(pa * w);
-                energy += pa * w * x[i][2];
-                energy_frozen += pa * self.frozen_weight[i] * x[i][2];
-                if let Some(b) = blocks.as_deref_mut() {
-                    b[i].rest[2][0] += pa * g[0];
-                    b[i].rest[2][1] += pa * g[1];
-                }
-            }
-        }
+        let (e, e_frozen) = self.add_held(x, r, &mut largest, blocks);
+        energy += e;
+        energy_frozen += e_frozen;
         for (i, f) in self.trigger.iter().enumerate() {
             r[3 * i + 2] -= f;
             largest[i] = largest[i].max(f.abs());
@@ -580,6 +527,7 @@ impl NodalTerms for Contact {
     }
 
     fn end_step(&mut self, lambda: f64, x: &[[f64; 3]]) {
+        self.update_plate(x);
         // Carry the slip over: a node that slid keeps its anchor 10ε behind it along the slip, so
         // continued sliding starts the next step at 99.5 % of μN instead of climbing the
         // regularisation again (the anchor of elasto-plastic friction).

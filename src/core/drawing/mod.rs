@@ -151,6 +151,9 @@ pub struct DrawingProblem {
     pub friction: f64,
     /// Blank-holder pressure, MPa.
     pub holder_pressure: f64,
+    /// A rigid holder plate pressed with this total force, N, instead of the pressure
+    /// ([`crate::core::contact::Holder::plate_force_n`]); `None`: the pressure on each node.
+    pub holder_force_n: Option<f64>,
     /// Punch travel from touching the blank, mm.
     pub stroke: f64,
     /// Target element size, mm.
@@ -206,6 +209,7 @@ impl DrawingProblem {
             blank: [170.0, 170.0],
             friction: 0.2,
             holder_pressure: 1.0,
+            holder_force_n: None,
             stroke: 28.0,
             element_size: 2.5,
             symmetry: Symmetry::Auto,
@@ -244,7 +248,7 @@ impl DrawingProblem {
         // of the stroke, `guide::shear_law`).
         if self.friction == 0.0 {
             Some(Unrestrained::NoFriction)
-        } else if self.holder_pressure == 0.0 {
+        } else if self.holder_pressure == 0.0 && self.holder_force_n.is_none() {
             Some(Unrestrained::NoHolder)
         } else {
             None
@@ -303,11 +307,13 @@ impl DrawingProblem {
                 stroke: 0.0,
             },
         ];
-        let holder = (self.holder_pressure > 0.0).then_some(Holder {
-            pressure: self.holder_pressure,
-            die,
-            band: h,
-        });
+        let holder =
+            (self.holder_pressure > 0.0 || self.holder_force_n.is_some()).then_some(Holder {
+                pressure: self.holder_pressure,
+                die,
+                band: h,
+                plate_force_n: self.holder_force_n,
+            });
         let (area, cells) = node_shares(model);
         let trigger = self
             .bending
@@ -482,7 +488,7 @@ impl DrawingProblem {
         if !self.fabric.undulation {
             left_out.push(LeftOut::Undulation);
         }
-        if self.holder_pressure == 0.0 {
+        if self.holder_pressure == 0.0 && self.holder_force_n.is_none() {
             left_out.push(LeftOut::Holder);
         }
         if self.friction == 0.0 {

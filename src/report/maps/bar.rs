@@ -204,6 +204,7 @@ mod tests {
             outlines: Vec::new(),
             size: (1100, 900),
             scale_max: None,
+            view: None,
         };
         let size = map.size;
         let mut buf = vec![255u8; (3 * size.0 * size.1) as usize];

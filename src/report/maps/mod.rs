@@ -10,6 +10,9 @@
 
 mod bar;
 mod developed;
+mod form;
+
+pub use form::form_view;
 
 pub use bar::nice_step;
 pub use developed::{FullBlank, MaterialLine, shear_developed, tension_developed};
@@ -102,6 +105,18 @@ pub struct FieldMap {
     /// The top of the colour scale, when several maps share one (a sweep); `None`: a little
     /// past the limit, or the largest value (see [`FieldMap::scale_top`]).
     pub scale_max: Option<f64>,
+    /// A view other than from above: the quads are projections (drawn in order, far first),
+    /// each shaded by its factor, the axes named for the view. `None`: the plan.
+    pub view: Option<View>,
+}
+
+/// A projected view of the formed blank ([`form::form_view`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct View {
+    /// Each quad's shade, 0 (black) to 1 (its colour).
+    pub shade: Vec<f64>,
+    /// The axes' names.
+    pub axes: [String; 2],
 }
 
 /// A line drawn over a map, a polyline in plan (mm).
@@ -220,6 +235,7 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
         outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
         size: (1100, 900),
         scale_max: None,
+        view: None,
     }
 }
 
@@ -251,6 +267,7 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
         outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
         size: (1100, 900),
         scale_max: None,
+        view: None,
     }
 }
 
@@ -291,6 +308,7 @@ pub fn wrinkle_map(result: &DrawingResult, ctx: &MapContext, limit_mm: f64) -> O
         outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
         size: (1100, 900),
         scale_max: None,
+        view: None,
     })
 }
 
@@ -417,6 +435,30 @@ impl FieldMap {
         ((cx - hx, cx + hx), (cy - hy, cy + hy))
     }
 
+    /// A projected view's quads, far first, each filled (shaded) and then edged, so that the
+    /// near hide the far.
+    fn draw_view<'a>(
+        &self,
+        chart: &mut ChartContext<'a, Canvas<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+        view: &View,
+        span: f64,
+        edge: ShapeStyle,
+    ) -> Result<(), PlotError> {
+        let over = ShapeStyle::from(RGBColor(110, 0, 80)).stroke_width(1);
+        for (k, (q, &v)) in self.quads.iter().zip(&self.values).enumerate() {
+            let f = view.shade[k];
+            let m = |c: u8| (c as f64 * f).round().clamp(0.0, 255.0) as u8;
+            let c = colour_on(v, self.limit, span);
+            let mut p: Vec<(f64, f64)> = q.iter().map(|p| (p[0], p[1])).collect();
+            let fill = Polygon::new(p.clone(), RGBColor(m(c.0), m(c.1), m(c.2)).filled());
+            p.push(p[0]);
+            let line = PathElement::new(p, if v > self.limit { over } else { edge });
+            chart.plotting_area().draw(&fill)?;
+            chart.plotting_area().draw(&line)?;
+        }
+        Ok(())
+    }
+
     /// The peak at `at` (mm): a red ring, and its value on a pale label beside it.
     fn draw_peak<'a>(
         &self,
@@ -471,10 +513,13 @@ impl FieldMap {
         let (px, py) = probe.plotting_area().dim_in_pixel();
         let (xr, yr) = self.ranges(px, py);
         let mut chart = builder(xr, yr)?;
+        let [x_desc, y_desc] = self.view.as_ref().map_or(["x (mm)", "y (mm)"], |v| {
+            [v.axes[0].as_str(), v.axes[1].as_str()]
+        });
         chart
             .configure_mesh()
-            .x_desc("x (mm)")
-            .y_desc("y (mm)")
+            .x_desc(x_desc)
+            .y_desc(y_desc)
             .axis_desc_style((font, 20))
             .label_style((font, 16))
             .x_label_formatter(&|v| tick_label(*v))
@@ -485,12 +530,17 @@ impl FieldMap {
         let poly = |q: &PlanQuad| -> Vec<(f64, f64)> { q.iter().map(|p| (p[0], p[1])).collect() };
         // Once per map, not once per quad: it scans every value.
         let span = self.colour_span();
+        // The element edges, faint: they are the yarns, and show the shear by themselves.
+        let edge = ShapeStyle::from(BLACK.mix(0.12)).stroke_width(1);
+        if let Some(view) = &self.view {
+            self.draw_view(&mut chart, view, span, edge)?;
+            let (_, rows) = chart.plotting_area().get_pixel_range();
+            return Ok((rows.start, rows.end));
+        }
         chart.draw_series(self.quads.iter().zip(&self.values).map(|(q, &v)| {
             let c = colour_on(v, self.limit, span);
             Polygon::new(poly(q), rgb(c).filled())
         }))?;
-        // The element edges, faint: they are the yarns, and show the shear by themselves.
-        let edge = ShapeStyle::from(BLACK.mix(0.12)).stroke_width(1);
         chart.draw_series(self.quads.iter().map(|q| {
             let mut p = poly(q);
             p.push(p[0]);
@@ -599,6 +649,7 @@ mod tests {
             outlines: Vec::new(),
             size: (100, 100),
             scale_max: None,
+            view: None,
         };
         let ((x0, x1), (y0, y1)) = map.ranges(700, 600);
         assert!(((x1 - x0) / 700.0 - (y1 - y0) / 600.0).abs() < 1e-12);

@@ -81,5 +81,6 @@ pub fn field_map(field: &StoredField, label: &str, scale_max: f64) -> FieldMap {
         outlines: vec![Outline::dashed(field.die_opening.clone())],
         size: (1100, 900),
         scale_max: Some(scale_max),
+        view: None,
     }
 }
