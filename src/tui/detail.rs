@@ -47,11 +47,13 @@ fn scale_line<'a>(
         }
     };
     put(&mut labels, 0, &format!("0{unit}"));
-    let topl = format!("{top:.0}{unit}");
+    // Millimetres of wrinkle need decimals; degrees and newtons do not.
+    let d = if top < 10.0 { 2 } else { 0 };
+    let topl = format!("{top:.d$}{unit}");
     if limit <= top {
         let mark = ((limit / top) * (w - 1) as f64).round() as usize;
         marks[mark.min(w - 1)] = '▲';
-        let text = format!("{limit:.0}{unit} {limit_name}");
+        let text = format!("{limit:.d$}{unit} {limit_name}");
         put(
             &mut labels,
             mark.saturating_sub(text.chars().count() / 2),
@@ -61,7 +63,7 @@ fn scale_line<'a>(
             put(&mut labels, w - topl.len(), &topl);
         }
     } else {
-        let text = format!("{topl} · {limit_name} {limit:.0}{unit} is off the scale");
+        let text = format!("{topl} · {limit_name} {limit:.d$}{unit} is off the scale");
         put(&mut labels, w.saturating_sub(text.chars().count()), &text);
     }
     vec![

@@ -244,9 +244,17 @@ fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
     );
     lines.push(Line::styled(sort, st.dim()));
     let limits = Limits::of(&app.table_plan.base_scene);
+    // The wrinkle limit where the fabric bends (the paper's membrane has no wrinkles).
+    let bends = app.table_plan.base_scene.fabric.bending_rigidity.is_some();
+    let wrinkles = if bends {
+        let w = show_value(&toml::Value::Float(limits.wrinkle_limit_mm));
+        format!(", wrinkles {w} mm")
+    } else {
+        String::new()
+    };
     lines.push(Line::styled(
         format!(
-            "limits: shear {}°, tension {} N",
+            "limits: shear {}°, tension {} N{wrinkles}",
             show_value(&toml::Value::Float(limits.locking_angle_deg)),
             show_value(&toml::Value::Float(limits.break_tension_n))
         ),

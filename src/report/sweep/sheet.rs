@@ -147,7 +147,7 @@ fn subtitle(plan: &Plan, designs: &[Design]) -> Vec<String> {
                 format!(" — fixed: {}", fixed.join(", "))
             }
         ),
-        "Feasible = converged, max shear ≤ locking angle and max yarn tension ≤ break tension by more than their error; marginal = a limit inside a figure's error band. Every design's map: maps/<design>.png; every row: results.csv.".into(),
+        "Feasible = converged, max shear ≤ locking angle and max yarn tension ≤ break tension (and, with bending, wrinkles ≤ the wrinkle limit) by more than their error; marginal = a limit inside a figure's error band. Every design's map: maps/<design>.png; every row: results.csv.".into(),
     ]
 }
 
@@ -227,7 +227,12 @@ fn ranking(plan: &Plan, rows: &[Row], designs: &[Design]) -> Vec<(Option<Verdict
             text.push_str(&format!("  {label}"));
         }
         match (r.converged, r.max_shear_deg, r.max_tension_n) {
-            (true, Some(s), Some(t)) => text.push_str(&format!(" — {s:.1}°, {t:.0} N")),
+            (true, Some(s), Some(t)) => {
+                text.push_str(&format!(" — {s:.1}°, {t:.0} N"));
+                if let Some(w) = r.max_wrinkle_mm {
+                    text.push_str(&format!(", wrinkles {w:.2} mm"));
+                }
+            }
             _ => text.push_str(&format!(" — {}", r.verdict.word())),
         }
         ranking.push((Some(r.verdict), text));

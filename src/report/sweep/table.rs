@@ -35,13 +35,20 @@ pub fn table(plan: &Plan, rows: &[Row]) -> String {
     for c in &columns {
         head.push((c.name.clone(), unit_of(&c.key).trim().to_string()));
     }
-    for (n, u) in [
+    // The wrinkle column where some design has bending (the paper's membrane has none).
+    let wrinkles = rows.iter().any(|r| r.max_wrinkle_mm.is_some());
+    let figures = [
         ("max shear", "°"),
         ("max tension", "N"),
         ("punch force", "N"),
+        ("wrinkles", "mm"),
         ("wall", "s"),
         ("verdict", ""),
-    ] {
+    ];
+    for (n, u) in figures
+        .into_iter()
+        .filter(|(n, _)| wrinkles || *n != "wrinkles")
+    {
         head.push((n.into(), u.into()));
     }
     let mut body: Vec<Vec<String>> = Vec::new();
@@ -52,6 +59,9 @@ pub fn table(plan: &Plan, rows: &[Row]) -> String {
         line.push(f(r.max_shear_deg, 1));
         line.push(f(r.max_tension_n, 0));
         line.push(f(r.punch_force_n, 0));
+        if wrinkles {
+            line.push(f(r.max_wrinkle_mm, 2));
+        }
         line.push(f(r.wall_s, 1));
         let mut verdict = r.verdict.word().to_string();
         if let Some(why) = &r.failure {
