@@ -16,7 +16,7 @@ use crate::core::euler_strip::Shortening;
 use crate::core::law::{CellLaw, CellParams};
 use crate::core::mesh::Mesh;
 use crate::core::shear::ShearLaw;
-use crate::core::solver::{Failure, Model, Solver, SolverOptions};
+use crate::core::solver::{Failure, Model, SolverOptions};
 use crate::core::strip::{self, DeadLoad};
 use crate::core::trigger::Trigger;
 
@@ -167,22 +167,17 @@ impl BiasWrinkleProblem {
                 from: d(k - 1),
                 to: d(k),
             };
-            let mut solver = Solver::new(&mut model, options.clone());
-            if let Err(f) = solver.solve(&prescribed, &mut trigger, &mut |_| {
-                std::ops::ControlFlow::Continue(())
-            }) {
-                out.failure = Some(f);
-                break;
-            }
-            let f = model.internal_force();
-            let force: f64 = (held.iter().zip(&moving))
-                .filter(|(_, m)| **m)
-                .map(|(&dof, _)| f[dof])
-                .sum();
+            let force = match prescribed.solve(&mut model, &options, &mut trigger) {
+                Ok(f) => f,
+                Err(f) => {
+                    out.failure = Some(f);
+                    break;
+                }
+            };
             let x = model.positions();
             let wrinkles = crate::core::wrinkle::wrinkles_along(&mesh, &all_lines, &x, &clamped);
             out.shortening_mm.push(d(k));
-            out.force_n.push(-force);
+            out.force_n.push(force);
             out.wrinkle_mm.push(wrinkles.max_mm);
             out.shear_centre_deg
                 .push(model.shear_angles_deg()[centre].abs());

@@ -101,23 +101,17 @@ impl EulerStripProblem {
                 from: self.shortening_mm * (k - 1) as f64 / points as f64,
                 to: d,
             };
-            let mut solver = Solver::new(&mut model, options.clone());
-            if let Err(f) = solver.solve(&prescribed, &mut trigger, &mut |_| {
-                std::ops::ControlFlow::Continue(())
-            }) {
-                out.failure = Some(f);
-                break;
-            }
-            // The solver left the element outputs at the converged state.
-            let f = model.internal_force();
-            let force: f64 = (held.iter().zip(&moving))
-                .filter(|(_, m)| **m)
-                .map(|(&dof, _)| f[dof])
-                .sum();
+            let force = match prescribed.solve(&mut model, &options, &mut trigger) {
+                Ok(f) => f,
+                Err(f) => {
+                    out.failure = Some(f);
+                    break;
+                }
+            };
             let x = model.positions();
             let amp = -mid.iter().map(|&i| x[i][2]).sum::<f64>() / mid.len().max(1) as f64;
             out.shortening_mm.push(d);
-            out.force_n.push(-force);
+            out.force_n.push(force);
             out.amplitude_mm.push(amp);
             let anchored: Vec<bool> = (0..x.len()).map(|i| clamped(column(i))).collect();
             let w = crate::core::wrinkle::wrinkles(&mesh, &x, &anchored);
@@ -134,6 +128,27 @@ pub(crate) struct Shortening<'a> {
     pub(crate) moving: &'a [bool],
     pub(crate) from: f64,
     pub(crate) to: f64,
+}
+
+impl Shortening<'_> {
+    /// Solves `model` from the clamps at `from` to `to` (with `trigger` held), and returns the
+    /// force on the moving clamp along −x (compression positive), N.
+    pub(crate) fn solve(
+        &self,
+        model: &mut Model,
+        options: &SolverOptions,
+        trigger: &mut DeadLoad,
+    ) -> Result<f64, Failure> {
+        let mut solver = Solver::new(model, options.clone());
+        solver.solve(self, trigger, &mut |_| std::ops::ControlFlow::Continue(()))?;
+        // The solver left the element outputs at the converged state.
+        let f = model.internal_force();
+        let pulled: f64 = (self.dofs.iter().zip(self.moving))
+            .filter(|(_, m)| **m)
+            .map(|(&dof, _)| f[dof])
+            .sum();
+        Ok(-pulled)
+    }
 }
 
 impl Prescribed for Shortening<'_> {
