@@ -96,3 +96,27 @@ fn pull_out(plate_force_n: Option<f64>) -> f64 {
     // The pull balances all the friction on the strip, the pulled nodes' own included.
     -contact.tool_force(0, 1.0, &model.positions())[0]
 }
+
+/// A quarter of the blank carries a quarter of the plate's force: the open box under a plate
+/// of 20 kN gives the same figures solved whole and as a quarter (coarse).
+#[test]
+fn a_quarter_carries_a_quarter_of_the_plates_force() {
+    use wovenform::core::drawing::{DrawingProblem, Symmetry, solve};
+    let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
+    p.element_size = 5.0;
+    p.holder_pressure = 0.0;
+    p.holder_force_n = Some(20_000.0);
+    let quarter = solve(&p, &mut |_| {});
+    p.symmetry = Symmetry::Full;
+    let whole = solve(&p, &mut |_| {});
+    assert!(quarter.converged && whole.converged);
+    assert!(quarter.quarter && !whole.quarter);
+    let rel = (quarter.punch_force_n / whole.punch_force_n - 1.0).abs();
+    assert!(
+        rel < 0.005,
+        "{} N against {} N",
+        quarter.punch_force_n,
+        whole.punch_force_n
+    );
+    assert!((quarter.draw_in_mm - whole.draw_in_mm).abs() < 0.05);
+}

@@ -312,7 +312,10 @@ impl DrawingProblem {
                 pressure: self.holder_pressure,
                 die,
                 band: h,
-                plate_force_n: self.holder_force_n,
+                // A quarter carries a quarter of the plate's force.
+                plate_force_n: self
+                    .holder_force_n
+                    .map(|f| if self.quarter_applies() { 0.25 * f } else { f }),
             });
         let (area, cells) = node_shares(model);
         let trigger = self
