@@ -97,3 +97,39 @@ fn the_bias_strips_wrinkles_do_not_hang_on_the_trigger() {
     );
     assert!((onset(&a) as i64 - onset(&b) as i64).abs() <= 1);
 }
+
+/// The tight box (5/6/5 mm) with the glass fabric's shear law, locking and bending folds at its
+/// corners past locking: the solver follows the buckle to the full stroke (it stopped at 24.5
+/// of 28 mm before the long descent of `core::solver::DESCENT_ITERATIONS`), and a plate
+/// pressed ten times harder leaves smaller wrinkles. Coarse, under a plate.
+#[test]
+fn a_folding_corner_is_followed_and_more_holder_force_leaves_smaller_wrinkles() {
+    use wovenform::core::drawing::{Bending, DEFAULT_COMPRESSION, DrawingProblem, solve};
+    let run = |force_kn: f64| {
+        let mut p = DrawingProblem::paper_box(5.0, 6.0, 5.0);
+        p.fabric.undulation = false;
+        p.shear = Some(ShearLaw::new([0.0376068, -0.0786365, 0.0822838]).with_locking(60.0));
+        p.bending = Some(Bending {
+            rigidity: [0.08, 0.08],
+            compression: [DEFAULT_COMPRESSION; 2],
+            trigger: Trigger {
+                pressure_mpa: 1e-6,
+                seed: 1,
+            },
+        });
+        p.element_size = 5.0;
+        p.holder_force_n = Some(1000.0 * force_kn);
+        solve(&p, &mut |_| {})
+    };
+    let (light, heavy) = (run(2.0), run(20.0));
+    assert!(light.converged, "{:?}", light.failure);
+    assert!(heavy.converged, "{:?}", heavy.failure);
+    let (w_light, w_heavy) = (
+        light.max_wrinkle().unwrap().0,
+        heavy.max_wrinkle().unwrap().0,
+    );
+    assert!(
+        w_light > w_heavy + 0.1,
+        "{w_light} mm at 2 kN, {w_heavy} mm at 20 kN"
+    );
+}

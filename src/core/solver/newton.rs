@@ -100,7 +100,8 @@ impl Solver<'_> {
             last_full: false,
             damping: 0.0,
         };
-        for it in 0..=self.options.max_iterations {
+        let cap = self.iteration_cap();
+        for it in 0..=cap {
             let a = match carried.take() {
                 Some(a) => a,
                 None => self.ws.assemble(self.model, lambda, &*terms, true),
@@ -128,7 +129,7 @@ impl Solver<'_> {
                 history.converged_residual = a.r;
                 return Ok(it);
             }
-            if it == self.options.max_iterations {
+            if it == cap {
                 break;
             }
             let c = self.correction(&a, rn, &mut progress)?;
@@ -150,7 +151,7 @@ impl Solver<'_> {
             progress.last_full = alpha >= 0.999;
         }
         Err(NewtonError::NoConvergence {
-            iterations: self.options.max_iterations,
+            iterations: cap,
             residual_n: history.residuals.last().copied().unwrap_or(f64::NAN),
         })
     }

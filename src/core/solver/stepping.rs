@@ -100,6 +100,7 @@ impl Solver<'_> {
                         self.stats.relaxed_steps += 1;
                         self.relax = 1.0;
                     }
+                    self.descent = false;
                     let du = self.accept(&attempt, history);
                     terms.end_step(attempt.target, &self.model.positions());
                     previous = Some((attempt.target - lambda, du));
@@ -115,6 +116,10 @@ impl Solver<'_> {
                     // starts cautious (resetting it made the stiffest fabrics fail).
                     self.model.u = attempt.u_start;
                     self.model.crimp = attempt.crimp_start;
+                    if self.begin_descent() {
+                        previous = None;
+                        continue;
+                    }
                     let relaxed = self.relax > 1.0;
                     self.relax = 1.0;
                     if step * 0.25 < self.options.min_step && !relaxed {
@@ -141,6 +146,15 @@ impl Solver<'_> {
         // Leave the element outputs at the last converged state.
         self.ws.assemble(self.model, lambda, &*terms, false);
         outcome
+    }
+
+    /// After a failed attempt: whether to try the same increment once more with a long descent
+    /// (`DESCENT_ITERATIONS`), as a model with bending passing a buckle may need, before any
+    /// cut. Without bending, never: nothing changes.
+    fn begin_descent(&mut self) -> bool {
+        let retry = !self.descent && !self.model.hinges.is_empty();
+        self.descent = retry;
+        retry
     }
 
     /// Solves one step: the predictor moved back onto the tools, Newton, and for terms that lag
