@@ -23,4 +23,5 @@ pub mod strip;
 pub mod toe;
 pub mod tools;
 pub mod trigger;
+pub mod vec3;
 pub mod wrinkle;

@@ -23,6 +23,7 @@
 //! they cannot fix stays where it is and shows no deviation there.
 
 use super::mesh::Mesh;
+use super::vec3::{cross, dot, sub};
 
 /// The wrinkle field of a deformed yarn-grid blank.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,22 +33,6 @@ pub struct Wrinkles {
     /// The largest amplitude, mm, and the node farthest from its span's chord there.
     pub max_mm: f64,
     pub at_node: usize,
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Each node's surface normal (not normalised): the sum of its elements' normals, each the
@@ -183,12 +168,7 @@ fn span_amplitude(nodes: &[usize], dev: &[f64]) -> (f64, usize) {
 /// Each node's deviation from what the anchors explain, along its surface normal, mm: its
 /// distance from the nearer of the two surfaces spanned over them ([`Spanned`]) when it lies
 /// beyond both on the same side, else 0 (between them it is explained); 0 at the anchored
-/// nodes. `None` for a mesh that is not a yarn grid.
-pub fn deviations(mesh: &Mesh, x: &[[f64; 3]], anchored: &[bool]) -> Option<Vec<f64>> {
-    Some(deviations_along(mesh, &grid_lines(mesh.grid?), x, anchored))
-}
-
-/// [`deviations`] on a mesh whose yarn lines are `lines` (each its nodes in order).
+/// nodes. `lines` are the mesh's yarn lines, each its nodes in order.
 pub fn deviations_along(
     mesh: &Mesh,
     lines: &[Vec<usize>],

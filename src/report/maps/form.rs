@@ -7,31 +7,11 @@
 
 use super::{FieldMap, MapContext, PlanQuad, Unit, View};
 use crate::core::drawing::DrawingResult;
+use crate::core::vec3::{cross, dot, sub, unit};
 
 /// The view's azimuth and elevation, degrees.
 const AZIMUTH_DEG: f64 = -30.0;
 const ELEVATION_DEG: f64 = 35.0;
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn unit(a: [f64; 3]) -> [f64; 3] {
-    let l = dot(a, a).sqrt();
-    if l > 0.0 { a.map(|v| v / l) } else { a }
-}
 
 /// The view's right, up and towards-the-viewer directions.
 fn camera() -> [[f64; 3]; 3] {
