@@ -210,6 +210,9 @@ impl RunSummary {
             .unwrap_or_default();
         let holder = match s.process.holder_force {
             Some(kn) => format!("holder plate {} kN", Num(kn)),
+            None if s.fabric.bending_rigidity.is_some() => {
+                format!("holder plate {} MPa", Num(s.process.holder_pressure))
+            }
             None => format!("holder {} MPa", Num(s.process.holder_pressure)),
         };
         format!(

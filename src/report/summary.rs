@@ -69,6 +69,10 @@ impl RunSummary {
         let _ = writeln!(out, "tools        {tools}");
         let holder = match s.process.holder_force {
             Some(kn) => format!("holder plate pressed with {kn} kN"),
+            None if s.fabric.bending_rigidity.is_some() => format!(
+                "holder plate pressed with {} MPa over the flange",
+                s.process.holder_pressure
+            ),
             None => format!("holder pressure {} MPa", s.process.holder_pressure),
         };
         let _ = writeln!(

@@ -133,3 +133,52 @@ fn a_folding_corner_is_followed_and_more_holder_force_leaves_smaller_wrinkles() 
         "{w_light} mm at 2 kN, {w_heavy} mm at 20 kN"
     );
 }
+
+/// The holder's process window (`presets/box-holder-window.toml`) at standard: too little
+/// holder force leaves the corners sheared past locking, enough forms the part, too much breaks
+/// yarns. Three of its nine designs: the lightest but one, a middle one, the heaviest.
+#[test]
+fn the_holder_window_preset_has_a_locked_side_a_window_and_a_broken_side() {
+    use wovenform::summary::RunSummary;
+    use wovenform::verdict::Verdict;
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/box-holder-window.toml");
+    let plan = wovenform::study::sweep::Plan::load(&path, &[]).unwrap();
+    let run = |pressure: f64| {
+        let design = (plan.designs().into_iter())
+            .find(|d| d.values[0].as_float() == Some(pressure))
+            .unwrap();
+        let scene = plan.design_scene(&design).unwrap();
+        let mut problem = scene.to_problem();
+        problem.solver.parallel = false;
+        let result = wovenform::core::drawing::solve(&problem, &mut |_| {});
+        RunSummary::new(&design.id, &scene, &result, 0.0)
+    };
+    let light = run(0.1);
+    assert_eq!(
+        Verdict::of_sentence(&light.verdict),
+        Verdict::Infeasible,
+        "{}",
+        light.verdict
+    );
+    assert!(light.judged.over.shear(), "{}", light.verdict);
+    let middle = run(2.0);
+    assert_eq!(
+        Verdict::of_sentence(&middle.verdict),
+        Verdict::Feasible,
+        "{}",
+        middle.verdict
+    );
+    let heavy = run(10.0);
+    assert_eq!(
+        Verdict::of_sentence(&heavy.verdict),
+        Verdict::Infeasible,
+        "{}",
+        heavy.verdict
+    );
+    assert!(
+        heavy.judged.over.tension() && !heavy.judged.over.shear(),
+        "{}",
+        heavy.verdict
+    );
+}

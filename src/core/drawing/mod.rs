@@ -152,7 +152,8 @@ pub struct DrawingProblem {
     /// Blank-holder pressure, MPa.
     pub holder_pressure: f64,
     /// A rigid holder plate pressed with this total force, N, instead of the pressure
-    /// ([`crate::core::contact::Holder::plate_force_n`]); `None`: the pressure on each node.
+    /// ([`crate::core::contact::Holder::plate_force_n`]); `None`: the pressure on each node, or
+    /// with bending a plate pressed with the pressure times the flange's initial area.
     pub holder_force_n: Option<f64>,
     /// Punch travel from touching the blank, mm.
     pub stroke: f64,
@@ -307,8 +308,9 @@ impl DrawingProblem {
                 stroke: 0.0,
             },
         ];
-        let holder =
-            (self.holder_pressure > 0.0 || self.holder_force_n.is_some()).then_some(Holder {
+        let (area, cells) = node_shares(model);
+        let holder = (self.holder_pressure > 0.0 || self.holder_force_n.is_some()).then(|| {
+            let mut holder = Holder {
                 pressure: self.holder_pressure,
                 die,
                 band: h,
@@ -316,8 +318,14 @@ impl DrawingProblem {
                 plate_force_n: self
                     .holder_force_n
                     .map(|f| if self.quarter_applies() { 0.25 * f } else { f }),
-            });
-        let (area, cells) = node_shares(model);
+            };
+            if self.bending.is_some() && holder.plate_force_n.is_none() {
+                // With bending a wrinkle can lift the holder: the holder is the rigid plate,
+                // pressed with the pressure times the flange it holds at the start.
+                holder.plate_force_n = Some(holder.pressure * held_area(&holder, model, &area));
+            }
+            holder
+        });
         let trigger = self
             .bending
             .map(|b| b.trigger.forces(&model.mesh.nodes, &area))
@@ -340,6 +348,14 @@ impl DrawingProblem {
         contact.trigger = trigger;
         contact
     }
+}
+
+/// The area the holder's pressure acts on in the flat blank, mm² (the nodes' areas times the
+/// holder's weight at their places).
+fn held_area(holder: &Holder, model: &Model, area: &[f64]) -> f64 {
+    (model.mesh.nodes.iter().zip(area))
+        .map(|(p, a)| a * holder.weight(p[0], p[1]).0)
+        .sum()
 }
 
 /// Tributary area (mm²) and cell count of each node (a quarter of each element's).

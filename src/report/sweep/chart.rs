@@ -12,6 +12,9 @@ use crate::verdict::Verdict;
 const LINES: usize = 4;
 /// Panels drawn, at most: past this the first ones, and a note.
 pub const MAX_PANELS: usize = 36;
+/// A swept number whose largest value is at least this many times its smallest (all positive)
+/// is drawn on a log scale.
+const LOG_SPAN: f64 = 30.0;
 
 /// Values of a numeric axis, sorted and distinct.
 fn numeric_values(axis: &Axis) -> Option<Vec<f64>> {
@@ -36,6 +39,8 @@ pub(super) struct Layout {
     /// Along x; `numeric` false: its values side by side in grid order.
     pub x: usize,
     pub numeric: bool,
+    /// Along x on a log scale (positive numbers spanning at least `LOG_SPAN`).
+    pub log: bool,
     /// One panel per combination of these (grid order, the first varying slowest).
     pub panel_axes: Vec<usize>,
     /// One line colour per combination of these.
@@ -81,18 +86,25 @@ impl Layout {
         if panel_count(&panel_axes) > MAX_PANELS {
             (panel_axes, line_axes) = split(Colour::PALETTE.len());
         }
+        let log = numeric
+            && numeric_values(&plan.axes[x])
+                .is_some_and(|v| v[0] > 0.0 && v[v.len() - 1] >= LOG_SPAN * v[0]);
         Some(Layout {
             x,
             numeric,
+            log,
             panel_axes,
             line_axes,
         })
     }
 
-    /// The x position of a design: its value, or its value's place on a non-numeric axis.
-    fn x_of(&self, plan: &Plan, design: &Design) -> f64 {
+    /// The x position of a design: its value (its log on a log scale), or its value's place
+    /// on a non-numeric axis.
+    pub(super) fn x_of(&self, plan: &Plan, design: &Design) -> f64 {
         let v = &design.values[self.x];
-        if self.numeric {
+        if self.log {
+            as_number(v).map_or(f64::NAN, f64::log10)
+        } else if self.numeric {
             as_number(v).unwrap_or(f64::NAN)
         } else {
             plan.axes[self.x]
@@ -101,6 +113,13 @@ impl Layout {
                 .position(|w| w == v)
                 .map_or(f64::NAN, |i| i as f64)
         }
+    }
+}
+
+impl Layout {
+    /// A design's value along x, as a number (NaN on a non-numeric axis).
+    pub(super) fn value_of(&self, design: &Design) -> f64 {
+        as_number(&design.values[self.x]).unwrap_or(f64::NAN)
     }
 }
 
@@ -311,8 +330,11 @@ fn point(layout: &Layout, plan: &Plan, r: &Row, d: &Design) -> PanelPoint {
 }
 
 /// The x ticks (the swept values, or round numbers when there are many) and the range.
-fn x_axis(plan: &Plan, layout: &Layout) -> (Vec<(f64, String)>, (f64, f64)) {
+pub(super) fn x_axis(plan: &Plan, layout: &Layout) -> (Vec<(f64, String)>, (f64, f64)) {
     let axis = &plan.axes[layout.x];
+    if layout.log {
+        return log_axis(&numeric_values(axis).unwrap_or_default());
+    }
     if !layout.numeric {
         let ticks = (0..axis.values.len())
             .map(|i| (i as f64, show_value(&axis.values[i])))
@@ -334,6 +356,24 @@ fn x_axis(plan: &Plan, layout: &Layout) -> (Vec<(f64, String)>, (f64, f64)) {
         }
         t
     };
+    (ticks, (lo - pad, hi + pad))
+}
+
+/// A log axis over sorted positive values: ticks at 1, 2 and 5 of each decade in their range
+/// (labelled with the values), positions in log10.
+fn log_axis(xs: &[f64]) -> (Vec<(f64, String)>, (f64, f64)) {
+    let (lo, hi) = (xs[0].log10(), xs[xs.len() - 1].log10());
+    let mut ticks = Vec::new();
+    for decade in (lo.floor() as i32)..=(hi.ceil() as i32) {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * 10f64.powi(decade);
+            let at = v.log10();
+            if at >= lo - 1e-9 && at <= hi + 1e-9 {
+                ticks.push((at, tick_label(v)));
+            }
+        }
+    }
+    let pad = 0.06 * (hi - lo);
     (ticks, (lo - pad, hi + pad))
 }
 

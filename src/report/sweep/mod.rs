@@ -6,6 +6,7 @@ mod chart;
 mod json;
 mod sheet;
 mod table;
+mod window;
 
 pub use json::results_json;
 pub use sheet::{SHEET_TILES, sheet};

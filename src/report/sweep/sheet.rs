@@ -4,6 +4,7 @@
 use super::chart::shear_chart;
 use super::full_blank;
 use super::table::{RANKED_ON_SHEET, ranked};
+use super::window::window_chart;
 use crate::report::sheet::{Sheet, Tile, TileMap};
 use crate::scene::ToolKind;
 use crate::study::sweep::{Design, Plan, Row, StoredField, counts, show_value, unit_of};
@@ -21,7 +22,10 @@ pub fn sheet<E>(
     field: &dyn Fn(&Row) -> Result<StoredField, E>,
 ) -> Result<Sheet, E> {
     let (tiles, tiles_note) = tiles(plan, rows, designs, field)?;
-    let (chart, chart_note) = shear_chart(plan, rows, designs);
+    let (chart, chart_note) = match window_chart(plan, rows, designs) {
+        Some((chart, note)) => (Some(chart), note),
+        None => shear_chart(plan, rows, designs),
+    };
     Ok(Sheet {
         title: title(plan, rows),
         subtitle: subtitle(plan, designs),
