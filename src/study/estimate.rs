@@ -19,6 +19,9 @@ use crate::scene::Scene;
 /// Seconds of a standard run of the mean design (1,156 solved elements, 28 mm stroke) on the
 /// reference machine.
 const REFERENCE_RUN_S: f64 = 0.8;
+/// A run with bending against the same run without (`bench --bending`: 1.8–2.2× on the open
+/// box at standard, whole blank; the hinges' couplings fill the factor).
+const BENDING_COST: f64 = 2.0;
 /// Seconds of [`calibration_work`] on the reference machine (median of 5, 2026-12-02).
 const REFERENCE_WORK_S: f64 = 0.0085;
 
@@ -28,7 +31,12 @@ pub fn run_seconds(scene: &Scene) -> f64 {
     let parts = if p.quarter_applies() { 4.0 } else { 1.0 };
     let elements = p.blank[0] * p.blank[1] / (p.element_size * p.element_size) / parts;
     let reference = REFERENCE_RUN_S * (elements / 1156.0).powf(1.4) * (p.stroke / 28.0).max(0.1);
-    reference * slowness()
+    let bending = if p.bending.is_some() {
+        BENDING_COST
+    } else {
+        1.0
+    };
+    reference * bending * slowness()
 }
 
 /// This machine against the reference one (2: half as fast), measured once per process and
