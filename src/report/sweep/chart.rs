@@ -185,13 +185,7 @@ pub(super) fn shear_chart(
     let key = key_of(plan, &layout, &line_at);
     let (x_ticks, x_range) = x_axis(plan, &layout);
     let y_range = y_range(&panels, locking);
-    let xa = &plan.axes[layout.x];
-    let xunit = unit_of(&xa.key).trim();
-    let x_label = if xunit.is_empty() {
-        xa.column.clone()
-    } else {
-        format!("{} ({xunit})", xa.column)
-    };
+    let x_label = x_label(plan, &layout);
     let names = |axes: &[usize]| {
         axes.iter()
             .map(|&a| plan.axes[a].column.as_str())
@@ -357,6 +351,17 @@ pub(super) fn x_axis(plan: &Plan, layout: &Layout) -> (Vec<(f64, String)>, (f64,
         t
     };
     (ticks, (lo - pad, hi + pad))
+}
+
+/// The x axis's label: the swept column and its unit, e.g. `r (mm)`.
+pub(super) fn x_label(plan: &Plan, layout: &Layout) -> String {
+    let axis = &plan.axes[layout.x];
+    let unit = unit_of(&axis.key).trim();
+    if unit.is_empty() {
+        axis.column.clone()
+    } else {
+        format!("{} ({unit})", axis.column)
+    }
 }
 
 /// A log axis over sorted positive values: ticks at 1, 2 and 5 of each decade in their range

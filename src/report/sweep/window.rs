@@ -4,7 +4,7 @@
 //! values where every line stays under 1 (the window) show at a glance. Each point's marker
 //! says where that figure's error band stands against its limit.
 
-use super::chart::{Layout, x_axis};
+use super::chart::{Layout, x_axis, x_label};
 use crate::report::panels::{Panel, PanelLine, PanelPoint, Panels};
 use crate::report::plot::{Colour, tick_label};
 use crate::study::sweep::{Design, Plan, Row, unit_of};
@@ -21,47 +21,38 @@ pub(super) fn window_chart(
         return None;
     }
     let limits = Limits::of(&plan.base_scene);
-    let bends = rows.iter().any(|r| r.max_wrinkle_mm.is_some());
-    let mut lines = vec![line(rows, designs, plan, &layout, limits, 0)];
-    lines.push(line(rows, designs, plan, &layout, limits, 1));
-    if bends {
-        lines.push(line(rows, designs, plan, &layout, limits, 2));
-    }
-    let mut key = vec![
-        (
-            format!(
-                "max shear / locking angle {}°",
-                tick_label(limits.locking_angle_deg)
-            ),
-            Colour::nth(0),
+    // Shear and tension always; wrinkles where the fabric bends.
+    let figures = if rows.iter().any(|r| r.max_wrinkle_mm.is_some()) {
+        3
+    } else {
+        2
+    };
+    let lines: Vec<PanelLine> = (0..figures)
+        .map(|which| line(rows, designs, plan, &layout, limits, which))
+        .collect();
+    let names = [
+        format!(
+            "max shear / locking angle {}°",
+            tick_label(limits.locking_angle_deg)
         ),
-        (
-            format!(
-                "max tension / break {} N",
-                tick_label(limits.break_tension_n)
-            ),
-            Colour::nth(1),
+        format!(
+            "max tension / break {} N",
+            tick_label(limits.break_tension_n)
+        ),
+        format!(
+            "wrinkles / limit {} mm",
+            tick_label(limits.wrinkle_limit_mm)
         ),
     ];
-    if bends {
-        key.push((
-            format!(
-                "wrinkles / limit {} mm",
-                tick_label(limits.wrinkle_limit_mm)
-            ),
-            Colour::nth(2),
-        ));
-    }
+    let key = (names.into_iter().take(figures).enumerate())
+        .map(|(which, name)| (name, Colour::nth(which)))
+        .collect();
     let ys = lines.iter().flat_map(|l| &l.points).filter_map(|p| p.y);
     let top = ys.fold(1.0_f64, f64::max);
     let (x_ticks, x_range) = x_axis(plan, &layout);
     let axis = &plan.axes[layout.x];
     let unit = unit_of(&axis.key).trim().to_string();
-    let x_label = if unit.is_empty() {
-        axis.column.clone()
-    } else {
-        format!("{} ({unit})", axis.column)
-    };
+    let x_label = x_label(plan, &layout);
     let chart = Panels {
         title: format!("The window in {x_label}: each figure over its limit"),
         x_label: x_label.clone(),
