@@ -102,7 +102,9 @@ pub struct Entry {
 pub const STATUS_S: f64 = 12.0;
 
 /// The columns of the results table one can sort by, after the parameters.
-pub const FIGURE_COLUMNS: [&str; 6] = ["#", "shear", "tension", "force", "verdict", "time"];
+pub const FIGURE_COLUMNS: [&str; 7] = [
+    "#", "shear", "tension", "force", "verdict", "time", "wrinkles",
+];
 
 /// The sort: a column (0 = design number, 1..=P the parameters, then the figures) and its
 /// direction.
@@ -368,13 +370,19 @@ impl App {
         self.params.plan.sweep_hash != self.table_plan.sweep_hash
     }
 
-    /// The number of sortable columns.
+    /// The table's fabric bends: its designs have a wrinkle figure, and the table a column.
+    pub(super) fn bends(&self) -> bool {
+        self.table_plan.base_scene.fabric.bending_rigidity.is_some()
+    }
+
+    /// The number of sortable columns (the wrinkles last, where the fabric bends).
     pub(super) fn sort_columns(&self) -> usize {
-        self.table_plan.columns().len() + FIGURE_COLUMNS.len()
+        let wrinkles = usize::from(!self.bends());
+        self.table_plan.columns().len() + FIGURE_COLUMNS.len() - wrinkles
     }
 
     /// The column `s` sorts by after `column`: from `#` to the figures first (shear, tension,
-    /// force, verdict, time), then the parameters, then `#` again.
+    /// force, verdict, time, wrinkles), then the parameters, then `#` again.
     pub(super) fn next_sort_column(&self, column: usize) -> usize {
         let p = self.table_plan.columns().len();
         let figures = (p + 1)..self.sort_columns();
@@ -404,7 +412,8 @@ impl App {
                 2 => row.and_then(|r| r.max_tension_n),
                 3 => row.and_then(|r| r.punch_force_n),
                 4 => row.map(|r| r.verdict as u8 as f64),
-                _ => row.and_then(|r| r.wall_s),
+                5 => row.and_then(|r| r.wall_s),
+                _ => row.and_then(|r| r.max_wrinkle_mm),
             },
         }
     }

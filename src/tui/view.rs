@@ -67,8 +67,11 @@ impl Widget for &App {
             render_parameters(app, params, buf, &st);
             render_run(app, run, buf, &st);
             if area.width >= WIDE {
+                // The wrinkle column (6 and a space) widens the table where the fabric bends.
+                let table_w = if app.bends() { 91 } else { 84 };
                 let [table, detail] =
-                    Layout::horizontal([Constraint::Length(84), Constraint::Min(40)]).areas(bottom);
+                    Layout::horizontal([Constraint::Length(table_w), Constraint::Min(40)])
+                        .areas(bottom);
                 render_table(app, table, buf, &st);
                 render_detail(app, detail, buf, &st);
             } else {
@@ -358,6 +361,10 @@ fn table_header(app: &App) -> (Vec<String>, Vec<Constraint>) {
         header.push(sorted(p + 1 + k, name));
     }
     header.push("±°".into());
+    if app.bends() {
+        // After the force: the wrinkles, sorted as the last figure.
+        header.insert(p + 4, sorted(p + 6, "wr mm"));
+    }
     // The design numbers in full (1999 and 1998 are not both "199"), and the sort mark.
     let digits = app.entries.len().saturating_sub(1).max(1).to_string().len() as u16;
     let mut widths = vec![Constraint::Length(digits.max(2) + 1)];
@@ -374,6 +381,9 @@ fn table_header(app: &App) -> (Vec<String>, Vec<Constraint>) {
         Constraint::Length(5),
         Constraint::Length(4),
     ]);
+    if app.bends() {
+        widths.insert(p + 4, Constraint::Length(6));
+    }
     (header, widths)
 }
 
@@ -469,6 +479,10 @@ fn table_row<'a>(app: &App, e: &Entry, st: &Styles) -> TableRow<'a> {
         r.and_then(|r| r.punch_force_n).map(|f| f / 1000.0),
         2,
     )));
+    if app.bends() {
+        let wrinkle = r.and_then(|r| r.max_wrinkle_mm);
+        cells.push(Cell::from(fixed(wrinkle, 2)).style(over(wrinkle, e.limits.wrinkle_limit_mm)));
+    }
     let (word, style) = verdict_cell(e, app, st);
     cells.push(Cell::from(word).style(style));
     cells.push(Cell::from(fixed(r.and_then(|r| r.wall_s), 1)));

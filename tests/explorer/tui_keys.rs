@@ -472,3 +472,44 @@ fn exports_stay_out_of_repositories_and_old_sessions_are_pruned() {
     assert_eq!(wovenform::tui::prune_sessions(dir.path(), 7), 1);
     assert!(!old.exists() && new.exists() && dir.path().join("repo").exists());
 }
+
+/// A fabric that bends has a wrinkle column after the force, sorted as the last figure; the
+/// paper's membrane has none (`sorting_and_the_feasible_filter`: from time straight to r).
+#[test]
+fn a_bending_fabric_adds_a_wrinkle_column_to_the_table_and_the_sort() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("presets/box-holder-window.toml");
+    let doc: toml::Table = std::fs::read_to_string(&path).unwrap().parse().unwrap();
+    let source = wovenform::tui::params::Source {
+        path,
+        title: "holder window".into(),
+        doc,
+        embedded: false,
+    };
+    let mut app = App::new(
+        Parameters::new(source).unwrap(),
+        PathBuf::from("/session"),
+        false,
+    );
+    let header = screen(&app, 200, 30)
+        .lines()
+        .find(|l| l.contains("shear°"))
+        .unwrap()
+        .to_string();
+    let at = |name: &str| {
+        header
+            .find(name)
+            .unwrap_or_else(|| panic!("{name}: {header}"))
+    };
+    assert!(
+        at("F kN") < at("wr mm") && at("wr mm") < at("verdict"),
+        "{header}"
+    );
+    press(&mut app, &[KeyCode::Char('s'); 5]);
+    assert_eq!(app.sort_name(app.sort().column), "time");
+    press(&mut app, &[KeyCode::Char('s'); 1]);
+    assert_eq!(app.sort_name(app.sort().column), "wrinkles");
+    press(&mut app, &[KeyCode::Char('s'); 1]);
+    assert_eq!(app.sort_name(app.sort().column), "r");
+    let plain = screen(&explorer(false), 200, 30);
+    assert!(!plain.contains("wr mm"), "{plain}");
+}
