@@ -362,3 +362,53 @@ fn a_free_blank_needs_almost_no_punch_force_until_the_yarns_go_taut() {
     assert!(tension < 1.0);
     assert!(force.abs() < 1e-2 * held_force);
 }
+
+/// The holder plate couples the nodes it presses (its height follows each of them): the node
+/// blocks' z diagonal plus the plate's coupling (`NodalTerms::coupling`, applied beside the
+/// blocks by the Krylov solve) is the whole derivative of the held nodes' z forces, off the
+/// diagonal too (central differences, the plate's height solved again at each).
+#[test]
+fn the_plates_coupling_completes_the_held_nodes_tangent() {
+    let die = Tool::elliptic_die([30.0, 30.0], 1.5, 5.0);
+    let tools = vec![ToolMotion {
+        tool: die.clone(),
+        tip_start: 0.0,
+        stroke: 0.0,
+    }];
+    let holder = Holder {
+        pressure: 1.0,
+        die,
+        band: 2.5,
+        plate_force_n: Some(300.0),
+    };
+    // Four flange nodes at slightly different heights (their contact stiffnesses differ).
+    let x: Vec<[f64; 3]> = (0..4)
+        .map(|i| [45.0 + 3.0 * i as f64, 2.0 * i as f64, 0.004 * i as f64])
+        .collect();
+    let mut contact = contact_with(tools, Some(holder), 0.0, x.len());
+    contact.begin_step(0.0, 1.0, &x);
+    let mut r = vec![0.0; 3 * x.len()];
+    let mut blocks = vec![NodeBlock::default(); x.len()];
+    contact.add(1.0, &x, &mut r, Some(&mut blocks)).unwrap();
+    let coupling = contact.coupling(&x).expect("a plate couples its nodes");
+    assert_eq!(coupling.nodes.len(), 4);
+    let u = |i: usize| coupling.nodes.iter().find(|n| n.0 == i).unwrap().1;
+    let h = 1e-7;
+    let mut worst = 0.0f64;
+    let scale = (0..4).map(u).fold(0.0, f64::max);
+    for j in 0..4 {
+        let (mut xp, mut xm) = (x.clone(), x.clone());
+        xp[j][2] += h;
+        xm[j][2] -= h;
+        let (rp, rm) = (residual(&contact, 1.0, &xp), residual(&contact, 1.0, &xm));
+        for i in 0..4 {
+            let fd = (rp[3 * i + 2] - rm[3 * i + 2]) / (2.0 * h);
+            let own = if i == j { blocks[i].total()[2][2] } else { 0.0 };
+            let coupled = if i == j { u(i) * u(i) } else { 0.0 } - u(i) * u(j);
+            let exact = own + coupled / coupling.total;
+            worst = worst.max((fd - exact).abs() / scale);
+        }
+    }
+    println!("plate coupling: worst relative error {worst:.2e}");
+    assert!(worst < 1e-5, "worst relative error {worst:.2e}");
+}

@@ -4,6 +4,7 @@
 
 use super::holder::{Holder, Plate};
 use super::{Contact, NodeBlock};
+use crate::core::solver::RankOne;
 use crate::core::tools::Tool;
 
 impl Contact {
@@ -142,5 +143,30 @@ impl Contact {
             }
         }
         (energy, energy_frozen)
+    }
+
+    /// The plate's coupling at `x` (`None`: no plate): each held node's contact stiffness
+    /// `u = w φ''` — the plate follows every node, so a node's push moves the others' forces
+    /// by `−u_i u_j / Σu` (the part of the tangent beyond each node's own block).
+    pub(super) fn plate_coupling(&self, x: &[[f64; 3]]) -> Option<RankOne> {
+        let h = self.holder.as_ref()?;
+        let plate = self.current_plate()?;
+        let delta = self.options.contact_smoothing;
+        let nodes = (self.held.iter())
+            .filter_map(|&i| {
+                let i = i as usize;
+                let w = if self.options.lagged {
+                    self.frozen_weight[i]
+                } else {
+                    h.weight(x[i][0], x[i][1]).0
+                };
+                let k = super::normal::law(self.penalty[i], delta, plate.height - x[i][2]).1;
+                (w * k > 0.0).then_some((i, w * k))
+            })
+            .collect();
+        Some(RankOne {
+            nodes,
+            total: plate.stiffness_sum,
+        })
     }
 }

@@ -14,7 +14,7 @@ pub mod normal;
 
 pub use holder::{Holder, Plate};
 
-use super::solver::{NodalSums, NodalTerms, NodeBlock};
+use super::solver::{NodalSums, NodalTerms, NodeBlock, RankOne};
 use super::tools::{Distance, Tool};
 
 /// One tool's role in the drawing.
@@ -524,6 +524,10 @@ impl NodalTerms for Contact {
             energy,
             energy_frozen,
         })
+    }
+
+    fn coupling(&self, x: &[[f64; 3]]) -> Option<RankOne> {
+        self.plate_coupling(x)
     }
 
     fn end_step(&mut self, lambda: f64, x: &[[f64; 3]]) {

@@ -4,7 +4,7 @@
 //! rest into a list of 3×3 node blocks.
 
 use super::model::{Model, hinge_pair, pair_index};
-use super::terms::{NodalTerms, NodeBlock};
+use super::terms::{NodalTerms, NodeBlock, RankOne};
 
 /// What the assembly of one configuration produced (the tangent stays in the [`Workspace`]).
 #[derive(Clone, Debug)]
@@ -22,6 +22,19 @@ pub(super) struct Assembly {
     pub admissible: bool,
 }
 
+/// A coupling on nodes as one on the free dofs (their z dofs; prescribed ones dropped).
+fn free_coupling(model: &Model, c: RankOne) -> RankOne {
+    RankOne {
+        nodes: (c.nodes.into_iter())
+            .filter_map(|(nd, u)| {
+                let q = model.eq[3 * nd + 2];
+                (q != usize::MAX).then_some((q, u))
+            })
+            .collect(),
+        total: c.total,
+    }
+}
+
 /// Buffers reused by every assembly.
 pub(super) struct Workspace {
     /// The stored triangle of the symmetric tangent (elements + the nodal terms' `spd`).
@@ -31,6 +44,8 @@ pub(super) struct Workspace {
     /// The nodes whose `rest` block is not zero, with that block (its rows and columns of
     /// prescribed dofs are skipped where it is applied).
     pub rest: Vec<(usize, [[f64; 3]; 3])>,
+    /// The nodal terms' coupling of the last tangent assembly, over the free dofs.
+    pub coupling: Option<RankOne>,
     pub x: Vec<[f64; 3]>,
     f_all: Vec<f64>,
     /// Law iterations summed over the assemblies (for the statistics).
@@ -44,6 +59,7 @@ impl Workspace {
             values: vec![0.0; model.linear.nnz()],
             blocks: vec![NodeBlock::default(); model.mesh.nodes.len()],
             rest: Vec::new(),
+            coupling: None,
             x: model.positions(),
             f_all: vec![0.0; model.u.len()],
             law_iterations: 0,
@@ -74,6 +90,7 @@ impl Workspace {
                 .for_each(|b| *b = NodeBlock::default());
             let added = terms.add(lambda, &self.x, &mut self.f_all, Some(&mut self.blocks));
             self.add_node_blocks(model);
+            self.coupling = terms.coupling(&self.x).map(|c| free_coupling(model, c));
             added
         } else {
             terms.add(lambda, &self.x, &mut self.f_all, None)

@@ -86,8 +86,14 @@ fn apply_jacobian(model: &Model, ws: &Workspace, x: &[f64], y: &mut [f64], scrat
     add_rest(model, ws, x, y);
 }
 
-/// `y += rest · x`: the remainder blocks, node by node.
+/// `y += rest · x`: the remainder blocks, node by node, and the coupling.
 fn add_rest(model: &Model, ws: &Workspace, x: &[f64], y: &mut [f64]) {
+    if let Some(c) = ws.coupling.as_ref().filter(|c| c.total > 0.0) {
+        let along: f64 = c.nodes.iter().map(|&(q, u)| u * x[q]).sum();
+        for &(q, u) in &c.nodes {
+            y[q] += u * (u * x[q] - along) / c.total;
+        }
+    }
     for (nd, block) in &ws.rest {
         for a in 0..3 {
             let row = model.eq[3 * nd + a];

@@ -26,7 +26,9 @@ mod terms;
 pub use model::{BadElement, Model};
 pub use newton::NewtonError;
 pub use stepping::Failure;
-pub use terms::{LinearPrescribed, NoNodalTerms, NodalSums, NodalTerms, NodeBlock, Prescribed};
+pub use terms::{
+    LinearPrescribed, NoNodalTerms, NodalSums, NodalTerms, NodeBlock, Prescribed, RankOne,
+};
 
 use assembly::Workspace;
 

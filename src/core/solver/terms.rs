@@ -31,6 +31,17 @@ impl NodeBlock {
     }
 }
 
+/// A tangent term that couples many nodes through one unknown condensed out (the holder
+/// plate's height): `diag(u²)/total − u uᵀ/total` on the nodes' z dofs, beyond their blocks
+/// (whose z diagonal holds `u − u²/total`), so that the whole is `diag(u) − u uᵀ/total`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RankOne {
+    /// Each node and its `u` (N/mm).
+    pub nodes: Vec<(usize, f64)>,
+    /// `Σ u`, N/mm.
+    pub total: f64,
+}
+
 /// What [`NodalTerms::add`] returns besides the forces.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NodalSums {
@@ -76,6 +87,11 @@ pub trait NodalTerms: Sync {
         r: &mut [f64],
         blocks: Option<&mut [NodeBlock]>,
     ) -> Option<NodalSums>;
+    /// The coupling term of the last [`NodalTerms::add`] at `x` (`None`: none), applied by the
+    /// Krylov solve beside the blocks' `rest`.
+    fn coupling(&self, _x: &[[f64; 3]]) -> Option<RankOne> {
+        None
+    }
     /// Called when a step is accepted, with its converged state.
     fn end_step(&mut self, _lambda: f64, _x: &[[f64; 3]]) {}
 }
