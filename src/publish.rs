@@ -239,3 +239,23 @@ pub fn write_text(path: &Path, text: &str) -> Result<PathBuf, PublishError> {
     write_atomic(path, text.as_bytes()).map_err(io(path, "write"))?;
     Ok(path.to_path_buf())
 }
+
+/// Writes a frontier's `frontier.csv`, `frontier.json` and `frontier.png` into `dir`; returns
+/// them. `accuracy` names the level the runs were made at.
+pub fn write_frontier(
+    frontier: &crate::study::frontier::Frontier,
+    dir: &Path,
+    accuracy: Option<&str>,
+) -> Result<Vec<PathBuf>, PublishError> {
+    use crate::report::frontier::{chart, frontier_csv, frontier_json};
+    let csv = write_text(&dir.join("frontier.csv"), &frontier_csv(frontier))?;
+    let json = write_text(
+        &dir.join("frontier.json"),
+        &frontier_json(frontier, accuracy),
+    )?;
+    let png = dir.join("frontier.png");
+    crate::report::canvas::write_png(&png, chart::SIZE, "chart", |area| {
+        chart::draw(frontier, area)
+    })?;
+    Ok(vec![csv, json, png])
+}

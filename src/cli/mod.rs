@@ -12,6 +12,7 @@ mod converge;
 mod error;
 mod fit;
 mod fit_bias;
+mod frontier;
 mod law;
 mod merge;
 mod outputs;
@@ -48,6 +49,12 @@ pub enum Command {
     /// Run a grid of designs in parallel: results.csv (a row as each design finishes),
     /// results.json, maps/<design>.png on one colour scale, report.png and a feasibility table.
     Sweep(sweep::SweepArgs),
+    /// For every combination of a sweep's other axes, where along one number axis (--along r)
+    /// the verdict changes, by a root search on the governing figure minus its limit: each
+    /// boundary with its interval (the MARGINAL zone and the search's tolerance), in a few
+    /// runs of the grid's; writes frontier.csv, frontier.json, frontier.png and each run as a
+    /// row of results.csv (so --resume, --shard and merge work as for a sweep).
+    Frontier(frontier::FrontierArgs),
     /// Combine the output folders of one sweep's shards into one results set and report.
     Merge(merge::MergeArgs),
     /// Evaluate the biaxial woven-cell law at one strain pair (one JSON object), or draw the
@@ -87,6 +94,7 @@ pub fn exec(cli: Cli) -> Result<(), CliError> {
         Some(Command::Converge(args)) => converge::exec(args),
         Some(Command::Run(args)) => run::exec(args),
         Some(Command::Sweep(args)) => sweep::exec(args),
+        Some(Command::Frontier(args)) => frontier::exec(args),
         Some(Command::Merge(args)) => merge::exec(args),
         Some(Command::Law(args)) => law::exec(args),
         Some(Command::Fit(args)) => fit::exec(args),

@@ -45,10 +45,17 @@ pub struct SlurmArgs {
     /// fewer (an allocation costs its queueing and start).
     #[arg(long, value_name = "SECONDS", default_value_t = wovenform::study::slurm::MIN_TASK_WORK_S)]
     pub min_task_s: f64,
+    /// A frontier along KEY (as `wovenform frontier --along KEY`) instead of the grid: each
+    /// task searches a shard of the combinations, the merge job writes the frontier.
+    #[arg(long, value_name = "KEY")]
+    pub frontier: Option<String>,
     /// Submit the array and the merge with sbatch, and print their job ids.
     #[arg(long)]
     pub submit: bool,
 }
+
+/// The runs a frontier's search takes for a combination, about (measured: 2 to 5).
+const RUNS_PER_COMBINATION: usize = 3;
 
 fn absolute(p: &Path) -> Result<PathBuf, CliError> {
     std::path::absolute(p)
@@ -170,6 +177,7 @@ fn array_job(args: &SlurmArgs, tasks: usize) -> Result<ArrayJob, CliError> {
         cpus_per_task: args.cpus_per_task,
         partition: args.partition.clone(),
         time: args.time.clone(),
+        frontier: args.frontier.clone(),
     })
 }
 
@@ -188,26 +196,44 @@ fn scripts(job: &ArrayJob) -> Result<[(PathBuf, String); 3], CliError> {
 pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
     check(&args)?;
     let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
+    // A frontier's folders hold its lattice's plan; its work is a few runs a combination.
+    let (plan, designs, most) = match &args.frontier {
+        None => {
+            let n = plan.len();
+            (plan, n, MAX_TASKS)
+        }
+        Some(key) => {
+            // A task searches whole combinations: no more tasks than combinations.
+            let lattice = wovenform::study::frontier::Lattice::new(&plan, key)?;
+            let combos = lattice.combos.len();
+            (lattice.plan, RUNS_PER_COMBINATION * combos, combos)
+        }
+    };
     let per_design_s = wovenform::study::estimate::run_seconds(&plan.base_scene);
     let tasks = tasks_for(
-        plan.len(),
+        designs,
         per_design_s,
         args.cpus_per_task,
         args.tasks,
         args.min_task_s,
-    );
+    )
+    .min(most);
     let job = array_job(&args, tasks)?;
     let scripts = scripts(&job)?;
     refuse_other_sweeps(&job.out, &plan)?;
     if tasks < args.tasks {
-        say_fewer_tasks(&args, plan.len(), per_design_s, tasks);
+        say_fewer_tasks(&args, designs, per_design_s, tasks);
     }
     write_scripts(&job, &scripts)?;
     let [(array, _), (merge, _), (submit, _)] = &scripts;
     println!(
-        "{}: {} designs in {tasks} array task(s) of {} cpus\n{}: the merge into {}, after the array (afterok)",
+        "{}: {designs} {} in {tasks} array task(s) of {} cpus\n{}: the merge into {}, after the array (afterok)",
         array.display(),
-        plan.len(),
+        if args.frontier.is_some() {
+            "runs (about)"
+        } else {
+            "designs"
+        },
         args.cpus_per_task,
         merge.display(),
         job.out.display()

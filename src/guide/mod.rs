@@ -9,6 +9,7 @@
 //! - [`scenes`]: the scene file, every key with its unit, default and bounds; `run`.
 //! - [`explorer`]: the terminal explorer (`wovenform`, `wovenform tui`).
 //! - [`sweeps`]: grids of designs, resume, shards, `merge` and Slurm.
+//! - [`frontier`]: the boundary along one axis (`frontier`), in a few runs of the grid's.
 //! - [`stl_tools`]: a punch and die of your own from STL files; the `tools` command.
 //! - [`shear_law`]: the in-plane shear law, the bias-extension test and its fit; `fit`.
 //! - [`bending`]: bending stiffness (beyond the paper) and the heavy cantilever; `cantilever`.
@@ -28,6 +29,9 @@ pub mod explorer {}
 
 #[doc = include_str!("sweeps.md")]
 pub mod sweeps {}
+
+#[doc = include_str!("frontier.md")]
+pub mod frontier {}
 
 #[doc = include_str!("stl_tools.md")]
 pub mod stl_tools {}

@@ -9,6 +9,7 @@ pub mod converge;
 pub mod error;
 pub mod figure6;
 pub mod fit;
+pub mod frontier;
 pub mod maps;
 pub mod mirror;
 pub mod panels;

@@ -6,6 +6,7 @@ pub mod converge;
 pub mod draw;
 pub mod estimate;
 pub mod fit;
+pub mod frontier;
 pub mod mesh_bench;
 pub mod scaling;
 pub mod slurm;

@@ -45,6 +45,10 @@ pub struct ArrayJob {
     pub partition: Option<String>,
     /// Wall-time limit per task, as Slurm writes it (see [`is_slurm_time`]).
     pub time: Option<String>,
+    /// A frontier along this key (`wovenform frontier --along KEY`) instead of the grid: each
+    /// task searches its shard of the combinations, and the merge job writes the frontier
+    /// from the merged runs.
+    pub frontier: Option<String>,
 }
 
 /// A string of the job that cannot be written into its scripts as it is.
@@ -261,9 +265,9 @@ impl ArrayJob {
         lines.push("#SBATCH --requeue".into());
         lines.push("set -euo pipefail".into());
         lines.push(format!(
-            "exec {} sweep {} --out {}/shards/\"$SLURM_ARRAY_TASK_ID\" --shard \"$SLURM_ARRAY_TASK_ID/{}\" --jobs \"${{SLURM_CPUS_PER_TASK:-{}}}\" --resume{}",
+            "exec {} {} --out {}/shards/\"$SLURM_ARRAY_TASK_ID\" --shard \"$SLURM_ARRAY_TASK_ID/{}\" --jobs \"${{SLURM_CPUS_PER_TASK:-{}}}\" --resume{}",
             quoted(t.binary),
-            quoted(t.sweep),
+            self.command(&t),
             quoted(t.out),
             self.tasks,
             self.cpus_per_task,
@@ -281,12 +285,36 @@ impl ArrayJob {
             .map(|i| format!("{}/shards/{i}", quoted(t.out)))
             .collect();
         lines.push(format!(
-            "exec {} merge {} --out {}",
+            "{}{} merge {} --out {}",
+            if self.frontier.is_some() { "" } else { "exec " },
             quoted(t.binary),
             shards.join(" "),
             quoted(t.out)
         ));
+        if self.frontier.is_some() {
+            // Every run is in the merged folder: the frontier resumes them all, runs nothing
+            // and writes frontier.csv, frontier.json and frontier.png there.
+            lines.push(format!(
+                "exec {} {} --out {} --resume{}",
+                quoted(t.binary),
+                self.command(&t),
+                quoted(t.out),
+                self.options()
+            ));
+        }
         Ok(lines.join("\n") + "\n")
+    }
+
+    /// The subcommand with the sweep file: `sweep FILE`, or `frontier FILE --along KEY`.
+    fn command(&self, t: &Texts) -> String {
+        match &self.frontier {
+            None => format!("sweep {}", quoted(t.sweep)),
+            Some(key) => format!(
+                "frontier {} {}",
+                quoted(t.sweep),
+                quoted(&format!("--along={key}"))
+            ),
+        }
     }
 
     /// The two `sbatch` calls, the merge depending on the array.
@@ -327,6 +355,7 @@ mod tests {
             cpus_per_task: 2,
             partition: Some("short".into()),
             time: Some("01:30:00".into()),
+            frontier: None,
         }
     }
 

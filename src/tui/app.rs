@@ -75,6 +75,11 @@ pub enum Command {
         from: Vec<PathBuf>,
         to: PathBuf,
     },
+    /// Find the boundary along the lattice's axis into `dir` (see [`super::frontier`]).
+    Frontier {
+        lattice: Box<crate::study::frontier::Lattice>,
+        dir: PathBuf,
+    },
     /// Solve design `design` again and write its maps, VTU and summary into `dir`.
     WriteFiles {
         design: String,
@@ -161,6 +166,18 @@ pub struct App {
     pub(super) detail_map: DetailMap,
     /// Each design's own files (maps, VTU), by id: written, or being written (empty).
     pub(super) design_files: HashMap<String, Result<Vec<PathBuf>, WorkError>>,
+    /// The boundary asked for with `b`, and what it found.
+    pub(super) frontier: Option<FrontierView>,
+}
+
+/// A frontier asked for with `b` (`tui/frontier.rs`): along which column, for how many
+/// combinations against how many runs of the grid, and what it found once done.
+#[derive(Clone, Debug)]
+pub struct FrontierView {
+    pub column: String,
+    pub combos: usize,
+    pub grid_runs: usize,
+    pub result: Option<crate::study::frontier::Frontier>,
 }
 
 /// The map the detail shows.
@@ -262,6 +279,7 @@ impl App {
             export_dir,
             detail_map: DetailMap::Shear,
             design_files: HashMap::new(),
+            frontier: None,
         }
     }
 
@@ -533,7 +551,8 @@ impl App {
                 }
             }
             Message::Row(row) => {
-                if let Some(e) = self.entries.iter_mut().find(|e| e.design.id == row.design) {
+                let at = self.entry_index_of(&row.design);
+                if let Some(e) = at.map(|i| &mut self.entries[i]) {
                     if row.verdict != Verdict::Invalid {
                         self.done += 1;
                     }
@@ -542,6 +561,9 @@ impl App {
                     e.dir = self.active_dir.clone();
                     e.accuracy = self.active_accuracy;
                     e.row = Some(*row);
+                } else if self.frontier.is_some() {
+                    // A frontier's run between the grid's values: counted, not in the table.
+                    self.done += 1;
                 }
             }
             Message::Finished {
@@ -555,6 +577,7 @@ impl App {
                     (None, false) => RunState::Finished { wall_s },
                 };
             }
+            m @ (Message::Round { .. } | Message::Frontier(_)) => self.on_frontier_message(m),
             Message::Written { design, result } => {
                 if let Err(e) = &result {
                     self.status = format!("writing the files of {design} failed: {e}");

@@ -108,6 +108,7 @@ pub(super) fn render_detail(app: &App, area: Rect, buf: &mut Buffer, st: &Styles
     Paragraph::new(lines)
         .wrap(Wrap { trim: true })
         .render(text_area, buf);
+    let map_area = super::frontier::split_chart(app, entry, map_area, buf, st);
     if let Some(field) = field
         && map_area.height >= 5
     {

@@ -141,6 +141,7 @@ impl App {
             }
             KeyCode::Char('r') => return self.start(),
             KeyCode::Char('m') => return self.rerun_marginal(),
+            KeyCode::Char('b') => return self.find_boundary(),
             KeyCode::Char('t') => self.detail_map = self.detail_map.toggled(DetailMap::Tension),
             KeyCode::Char('z') => self.detail_map = self.detail_map.toggled(DetailMap::Wrinkles),
             KeyCode::Char('+') if self.focus == Focus::Results => return self.rerun_selected(),

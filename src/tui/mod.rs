@@ -9,6 +9,7 @@
 pub mod app;
 mod detail;
 pub mod error;
+pub mod frontier;
 mod keys;
 pub mod params;
 mod runs;
@@ -160,6 +161,9 @@ fn event_loop(
                 only,
             } => {
                 stop = Some(worker::start_sweep(*plan, dir, resume, only, tx.clone()));
+            }
+            Command::Frontier { lattice, dir } => {
+                stop = Some(worker::start_frontier(*lattice, dir, tx.clone()));
             }
             Command::Export { from, to } => worker::start_export(from, to, tx.clone()),
             Command::WriteFiles { design, scene, dir } => {

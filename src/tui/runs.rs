@@ -46,6 +46,7 @@ impl App {
             self.session.join(format!("run-{}", self.runs))
         };
         self.status.clear();
+        self.frontier = None;
         self.begin_run(plan, dir, resume || regrid)
     }
 

@@ -200,12 +200,11 @@ fn editing_lines<'a>(
     (title, lines)
 }
 
-/// The Run panel: where the run is, the sort, the limits, what was edited, the status.
-fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
-    let mut lines: Vec<Line> = Vec::new();
+/// Where the run is, in one line.
+fn state_line<'a>(app: &App, st: &Styles) -> Line<'a> {
     let (done, feasible) = app.counts();
     let total = app.entries.len();
-    let state = match &app.run {
+    match &app.run {
         RunState::Idle => {
             // A rough figure (the mesh and the stroke), one core a design.
             let each = crate::study::estimate::run_seconds(&app.params.plan.base_scene);
@@ -233,8 +232,13 @@ fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
             st.warn(),
         ),
         RunState::Failed(e) => Line::styled(format!("failed: {e}"), st.bad()),
-    };
-    lines.push(state);
+    }
+}
+
+/// The Run panel: where the run is, the sort, the limits, what was edited, the status.
+fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
+    let mut lines: Vec<Line> = vec![state_line(app, st)];
+    lines.extend(super::frontier::run_line(app, st));
     let sort = format!(
         "sort: {} {} · {}",
         app.sort_name(app.sort.column),
@@ -283,6 +287,7 @@ fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
 }
 
 fn render_table(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
+    let area = super::frontier::split_boundaries(app, area, buf, st);
     let visible = app.visible();
     let (header, widths) = table_header(app);
     let rows: Vec<TableRow> = visible
@@ -541,7 +546,7 @@ fn render_keys(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
             "↑↓ design · t tension · z wrinkles · + finer · w PNG/VTU · Esc back · q quit"
         }
         _ if app.running() => "c cancel · s sort · f feasible · Enter detail · ? help · q quit",
-        _ => "r run · e export · s sort · f feasible · Tab panel · Enter · ? help · q quit",
+        _ => "r run · b boundary · e export · s sort · f feasible · Enter · ? help · q quit",
     };
     Paragraph::new(Line::styled(format!(" {keys}"), st.dim())).render(area, buf);
 }
@@ -566,6 +571,10 @@ const HELP: &[(&str, &str)] = &[
     ("c, Esc", "cancel: workers stop, finished rows stay"),
     ("m", "re-run the marginal designs at the next finer level"),
     ("+", "re-run the selected design at the next finer level"),
+    (
+        "b",
+        "the boundary along the sorted (else first) number column",
+    ),
     ("t", "the detail's map: shear or yarn tension"),
     ("w", "write the selected design's PNG maps and VTU"),
     ("e", "export results.csv, maps and report.png to a folder"),
@@ -573,8 +582,10 @@ const HELP: &[(&str, &str)] = &[
     ("↑ ↓ PgUp PgDn", "select a parameter or a design"),
     ("Enter", "edit the parameter / open the design's detail"),
     ("← →", "accuracy level down / up"),
-    ("s, S", "sort by the next column, reverse the order"),
-    ("f", "show feasible designs only, or all"),
+    (
+        "s, S · f",
+        "sort by the next column, reverse · feasible only / all",
+    ),
     ("?", "this help"),
     ("q, Ctrl-C", "quit (a running sweep is cancelled)"),
 ];

@@ -27,6 +27,10 @@ pub enum Message {
     },
     /// An export ended: the files written, or why not.
     Exported(Result<Vec<PathBuf>, WorkError>),
+    /// A frontier's round starts: its runs to do.
+    Round { to_run: usize },
+    /// A frontier found its boundaries.
+    Frontier(Box<crate::study::frontier::Frontier>),
     /// A design's own files (maps, VTU, summary) are written, or why not.
     Written {
         design: String,
@@ -69,6 +73,57 @@ pub fn start_sweep(
                     wall_s: o.run_wall_s,
                     error: None,
                 },
+                Err(e) => Message::Finished {
+                    stopped: false,
+                    wall_s: 0.0,
+                    error: Some(e.to_string()),
+                },
+            };
+            let _ = tx.send(finished);
+        })
+        .expect("a thread can be started");
+    stop
+}
+
+/// Finds the boundary along `lattice`'s axis into `dir`: its runs reported as rows, each
+/// round's count, then what it found; returns the stop flag.
+pub fn start_frontier(
+    lattice: crate::study::frontier::Lattice,
+    dir: PathBuf,
+    tx: Sender<Message>,
+) -> Arc<AtomicBool> {
+    use crate::study::frontier;
+    let stop = Arc::new(AtomicBool::new(false));
+    let options = frontier::Options {
+        jobs: None,
+        shard: None,
+        resume: false,
+        stop: Some(stop.clone()),
+    };
+    thread::Builder::new()
+        .name("explorer-frontier".into())
+        .spawn(move || {
+            let progress = |p: frontier::Progress| {
+                let m = match p {
+                    frontier::Progress::Round { to_run, .. } => Message::Round { to_run },
+                    frontier::Progress::Done { row, .. } => Message::Row(Box::new(row.clone())),
+                };
+                let _ = tx.send(m);
+            };
+            let start = std::time::Instant::now();
+            let finished = match frontier::search(&lattice, &dir, &options, &progress) {
+                Ok(found) => {
+                    let stopped = found
+                        .lines
+                        .iter()
+                        .any(|l| l.found == frontier::Found::Stopped);
+                    let _ = tx.send(Message::Frontier(Box::new(found)));
+                    Message::Finished {
+                        stopped,
+                        wall_s: start.elapsed().as_secs_f64(),
+                        error: None,
+                    }
+                }
                 Err(e) => Message::Finished {
                     stopped: false,
                     wall_s: 0.0,

@@ -14,6 +14,7 @@ mod slurm_common;
 mod cantilever_cli;
 mod cli;
 mod converge_cli;
+mod frontier_cli;
 mod hostile;
 mod mesh_hostile_cli;
 mod mesh_scene_cli;

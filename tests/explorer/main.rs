@@ -12,6 +12,7 @@ mod common;
 mod tui_common;
 
 mod tui_detail;
+mod tui_frontier;
 mod tui_keys;
 mod tui_pty;
 mod tui_screens;

@@ -22,6 +22,7 @@ mod element_checks;
 mod ellipsoid_undulation;
 mod figure11_box;
 mod figure6;
+mod frontier_grid;
 mod holder_pull_out;
 mod law_reference;
 mod levels;

@@ -10,7 +10,7 @@ mod window;
 
 pub use json::results_json;
 pub use sheet::{SHEET_TILES, sheet};
-pub use table::{ranked, table};
+pub use table::{aligned, ranked, table};
 
 use super::maps::{FieldMap, Outline, Unit};
 use super::mirror::{PlanQuad, mirror_quads};

@@ -72,12 +72,14 @@ pub fn table(plan: &Plan, rows: &[Row]) -> String {
         line.push(verdict);
         body.push(line);
     }
-    aligned(&head, &body)
+    aligned(&head, &body, 2)
 }
 
-/// The header's two lines (names, units) and the body, in columns: the mark and the design
-/// left-aligned, the parameters and figures right-aligned, the verdict last as it is.
-fn aligned(head: &[(String, String)], body: &[Vec<String>]) -> String {
+/// The header's two lines (names, units) and the body, in columns: the first columns (the
+/// mark and the design) left-aligned, the parameters and figures right-aligned, the last
+/// column (the verdict) as it is.
+/// Columns from `numeric_from` on are right-aligned (the table's numbers).
+pub fn aligned(head: &[(String, String)], body: &[Vec<String>], numeric_from: usize) -> String {
     let n = head.len();
     let width: Vec<usize> = (0..n)
         .map(|i| {
@@ -90,7 +92,6 @@ fn aligned(head: &[(String, String)], body: &[Vec<String>]) -> String {
                 .fold(h, usize::max)
         })
         .collect();
-    let numeric_from = 2; // right-align the parameters and figures
     let fmt_line = |cells: Vec<&str>| -> String {
         let mut s = String::new();
         for (i, cell) in cells.iter().enumerate() {
