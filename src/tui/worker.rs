@@ -67,22 +67,27 @@ pub fn start_sweep(
                 };
                 let _ = tx.send(m);
             };
-            let finished = match sweep::run(&plan, &dir, &options, &progress) {
-                Ok(o) => Message::Finished {
-                    stopped: o.stopped,
-                    wall_s: o.run_wall_s,
-                    error: None,
-                },
-                Err(e) => Message::Finished {
-                    stopped: false,
-                    wall_s: 0.0,
-                    error: Some(e.to_string()),
-                },
-            };
-            let _ = tx.send(finished);
+            let outcome = sweep::run(&plan, &dir, &options, &progress);
+            let _ = tx.send(finished(outcome.map(|o| (o.stopped, o.run_wall_s))));
         })
         .expect("a thread can be started");
     stop
+}
+
+/// The end of a run: stopped on request or not and its wall time, or the error that ended it.
+fn finished(outcome: Result<(bool, f64), sweep::SweepError>) -> Message {
+    match outcome {
+        Ok((stopped, wall_s)) => Message::Finished {
+            stopped,
+            wall_s,
+            error: None,
+        },
+        Err(e) => Message::Finished {
+            stopped: false,
+            wall_s: 0.0,
+            error: Some(e.to_string()),
+        },
+    }
 }
 
 /// Finds the boundary along `lattice`'s axis into `dir`: its runs reported as rows, each
@@ -111,26 +116,12 @@ pub fn start_frontier(
                 let _ = tx.send(m);
             };
             let start = std::time::Instant::now();
-            let finished = match frontier::search(&lattice, &dir, &options, &progress) {
-                Ok(found) => {
-                    let stopped = found
-                        .lines
-                        .iter()
-                        .any(|l| l.found == frontier::Found::Stopped);
-                    let _ = tx.send(Message::Frontier(Box::new(found)));
-                    Message::Finished {
-                        stopped,
-                        wall_s: start.elapsed().as_secs_f64(),
-                        error: None,
-                    }
-                }
-                Err(e) => Message::Finished {
-                    stopped: false,
-                    wall_s: 0.0,
-                    error: Some(e.to_string()),
-                },
-            };
-            let _ = tx.send(finished);
+            let outcome = frontier::search(&lattice, &dir, &options, &progress).map(|found| {
+                let stopped = (found.lines.iter()).any(|l| l.found == frontier::Found::Stopped);
+                let _ = tx.send(Message::Frontier(Box::new(found)));
+                (stopped, start.elapsed().as_secs_f64())
+            });
+            let _ = tx.send(finished(outcome));
         })
         .expect("a thread can be started");
     stop
