@@ -137,6 +137,28 @@ fn an_axis_that_cannot_be_searched_is_refused_with_the_file_and_the_key() {
 }
 
 #[test]
+fn values_that_break_a_bound_shorten_the_range_and_are_named() {
+    // r = 40 mm does not fit the 60 mm punch: the search says so instead of answering there.
+    let tmp = tempfile::tempdir().unwrap();
+    let file = frontier_file(tmp.path(), "r = [10.0, 40.0]\nrp = [15.0]\n");
+    let o = wovenform(
+        tmp.path(),
+        &[
+            "frontier",
+            file.to_str().unwrap(),
+            "--along",
+            "r",
+            "--out",
+            "f",
+            "--accuracy",
+            "coarse",
+        ],
+    );
+    let out = ok(o);
+    assert!(out.contains("no answer at r 40 mm: tools.r = 40"), "{out}");
+}
+
+#[test]
 fn shards_merged_and_the_slurm_scripts_give_the_frontier_of_one_run() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();

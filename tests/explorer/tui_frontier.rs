@@ -54,6 +54,7 @@ fn found(app: &wovenform::tui::app::App) -> Frontier {
                 values,
                 found,
                 runs,
+                unanswered: Vec::new(),
             });
         }
     }

@@ -58,8 +58,21 @@ pub fn boundary_words(f: &Frontier, b: &Boundary) -> String {
     )
 }
 
-/// What a line's search found, in words.
+/// What a line's search found, in words, with the runs that did not answer.
 pub fn found_words(f: &Frontier, line: &Line) -> String {
+    let mut words = answer_words(f, line);
+    for (x, why) in &line.unanswered {
+        let short: String = why.chars().take(80).collect();
+        let u = unit(f);
+        let space = if u.is_empty() { "" } else { " " };
+        let at = format!("{} {}{space}{u}", f.column, v(f, *x));
+        let _ = write!(words, "; no answer at {at}: {short}");
+    }
+    words
+}
+
+/// What a line's search found, in words.
+fn answer_words(f: &Frontier, line: &Line) -> String {
     let u = unit(f);
     let space = if u.is_empty() { "" } else { " " };
     match &line.found {

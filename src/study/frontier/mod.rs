@@ -72,6 +72,9 @@ pub struct Line {
     pub found: Found,
     /// The runs its search used, along the axis.
     pub runs: Vec<RunPoint>,
+    /// The runs that did not answer (failed, or a value that breaks a bound): the value and
+    /// why. The range searched stops short of them.
+    pub unanswered: Vec<(f64, String)>,
 }
 
 /// A frontier: every combination's boundary along the axis.

@@ -222,9 +222,13 @@ fn line_of(lattice: &Lattice, c: usize, s: &Search, rows: &[Row], stopped: bool)
         },
         search::Found::NoAnswer(why) => Found::NoAnswer(why),
     };
+    let unanswered = (s.failures().into_iter())
+        .map(|(j, why)| (lattice.x(j as f64), why))
+        .collect();
     Line {
         values: lattice.combo_values(c),
         found,
         runs,
+        unanswered,
     }
 }

@@ -143,6 +143,16 @@ impl Search {
         self.points.len()
     }
 
+    /// The runs that did not answer (failed or invalid): where and why.
+    pub fn failures(&self) -> Vec<(usize, String)> {
+        (self.points.iter())
+            .filter_map(|(i, a)| match a {
+                Answer::None(why) => Some((*i, why.clone())),
+                Answer::Margins { .. } => None,
+            })
+            .collect()
+    }
+
     /// A run at lattice index `i` is among them.
     pub fn has(&self, i: usize) -> bool {
         self.tried(i)
