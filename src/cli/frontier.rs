@@ -71,10 +71,10 @@ pub fn exec(args: FrontierArgs) -> Result<(), CliError> {
         2 * combos as u64,
         "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} runs, {msg}",
     );
-    if std::io::stderr().is_terminal() {
+    let terminal = std::io::stderr().is_terminal();
+    if terminal {
         bar.enable_steady_tick(std::time::Duration::from_millis(200));
     }
-    let terminal = std::io::stderr().is_terminal();
     let progress = |p: Progress| match p {
         Progress::Round {
             round,

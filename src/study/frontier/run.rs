@@ -104,8 +104,9 @@ pub fn search(
             break;
         }
     }
+    let by_id: HashMap<&str, &Row> = rows.iter().map(|r| (r.design.as_str(), r)).collect();
     let lines = (mine.iter().zip(&searches))
-        .map(|(&c, s)| line_of(lattice, c, s, &rows, stopped))
+        .map(|(&c, s)| line_of(lattice, c, s, &by_id, stopped))
         .collect();
     let mut found = frontier_of(lattice, lines, rows);
     (found.ran, found.kept, found.wall_s) = (ran, kept, start.elapsed().as_secs_f64());
@@ -185,8 +186,13 @@ fn run_round(
 }
 
 /// A combination's line: its values, what its search found (in the axis's unit) and its runs.
-fn line_of(lattice: &Lattice, c: usize, s: &Search, rows: &[Row], stopped: bool) -> Line {
-    let by_id: HashMap<&str, &Row> = rows.iter().map(|r| (r.design.as_str(), r)).collect();
+fn line_of(
+    lattice: &Lattice,
+    c: usize,
+    s: &Search,
+    by_id: &HashMap<&str, &Row>,
+    stopped: bool,
+) -> Line {
     let runs = (0..lattice.len())
         .filter_map(|j| {
             let d = lattice.design(c, j);

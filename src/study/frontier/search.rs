@@ -36,15 +36,6 @@ impl Governing {
             Governing::Wrinkles => "wrinkles",
         }
     }
-
-    /// The limit in words: `locking angle`, ...
-    pub fn limit_name(self) -> &'static str {
-        match self {
-            Governing::Shear => "locking angle",
-            Governing::Tension => "break tension",
-            Governing::Wrinkles => "wrinkle limit",
-        }
-    }
 }
 
 /// What one run answered, as the search sees it: for each figure its margin (figure − limit,
@@ -155,10 +146,6 @@ impl Search {
 
     /// A run at lattice index `i` is among them.
     pub fn has(&self, i: usize) -> bool {
-        self.tried(i)
-    }
-
-    fn tried(&self, i: usize) -> bool {
         self.points.iter().any(|(j, _)| *j == i)
     }
 
@@ -243,7 +230,7 @@ impl Search {
     fn open_brackets(&self) -> Vec<Bracket> {
         self.brackets()
             .into_iter()
-            .filter(|b| b.matters && self.resolve(b).is_none())
+            .filter(|b| b.matters && !self.closed(b))
             .collect()
     }
 
@@ -300,9 +287,9 @@ impl Search {
         (linear, quadratic)
     }
 
-    /// The bracket's root if it is known well enough: its bracket is one step wide.
-    fn resolve(&self, br: &Bracket) -> Option<[f64; 2]> {
-        (br.b - br.a <= self.step).then_some([br.a as f64, br.b as f64])
+    /// The bracket is closed: one step wide or less.
+    fn closed(&self, br: &Bracket) -> bool {
+        br.b - br.a <= self.step
     }
 
     /// When in the run order lattice index `i` was added.
@@ -355,14 +342,14 @@ impl Search {
             guess.clamp(a + quarter, b - quarter)
         };
         let i = (target.round() as usize).clamp(br.a + 1, br.b - 1);
-        if !self.tried(i) {
+        if !self.has(i) {
             return Some(i);
         }
         // Taken (a run there failed): the nearest untried index inside the bracket.
         (1..br.b - br.a)
             .flat_map(|d| [i.checked_sub(d), Some(i + d)])
             .flatten()
-            .find(|&j| j > br.a && j < br.b && !self.tried(j))
+            .find(|&j| j > br.a && j < br.b && !self.has(j))
     }
 
     /// What the search came to (with the runs so far).
@@ -402,9 +389,8 @@ impl Search {
     fn root(&self, br: &Bracket) -> Root {
         let (a, b) = (br.a as f64, br.b as f64);
         let (linear, quadratic) = self.models(br);
-        let search = self.resolve(br).unwrap_or([a, b]);
-        // In a bracket one step wide the straight line between its runs is the estimate.
-        let at = if br.b - br.a <= self.step {
+        // In a closed bracket the straight line between its runs is the estimate.
+        let at = if self.closed(br) {
             linear
         } else {
             quadratic.unwrap_or(linear)
@@ -413,7 +399,7 @@ impl Search {
         Root {
             governing: Governing::ALL[br.k],
             at,
-            search,
+            search: [a, b],
             zone: [self.zone_edge(br, at, false), self.zone_edge(br, at, true)],
             under_above: br.mb <= 0.0,
         }
