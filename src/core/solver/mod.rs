@@ -70,8 +70,8 @@ pub struct SolverOptions {
     pub parallel: bool,
     /// Threads of rayon's pool the sparse factorization and its solves may use (1: one; 0: all).
     /// One by default: on the 2-core machines measured, faer's parallel supernodal Cholesky
-    /// made the open box 1.7× (standard) and 2.2× (fine) slower (`bench --scaling` measures it
-    /// on any machine).
+    /// gains nothing at these sizes (the open box at fine: 8.6 s on two threads, 8.5 s on one;
+    /// `bench --scaling` measures it on any machine).
     pub factor_threads: u32,
     /// Keep the residual history of each step (for convergence studies).
     pub record_residuals: bool,
