@@ -2,7 +2,8 @@
 //! with radii, friction and holder pressure between the grid's values (8/12/9 mm, μ = 0.18,
 //! 1.2 MPa), the real binary at coarse, standard and fine. Each level's stated error must cover
 //! its distance to the fine answer, and the peak over a woven cell must move less between the
-//! levels than the largest element value does (the reason it is the figure the verdict uses).
+//! levels than the largest element value does (the reason it is the figure the verdict uses),
+//! and the finer levels must not take many more load steps.
 
 use serde_json::Value;
 
@@ -66,6 +67,20 @@ fn each_level_covers_its_distance_to_the_fine_answer_on_an_unmeasured_design() {
             "{name} tension {tension}"
         );
     }
+    // The load steps follow the path, not the mesh: four times the elements, at most 1.5 times
+    // the steps (the old controller took up to 2.1 times on the paper's grid).
+    let steps = |v: &Value| num(v, "steps");
+    println!(
+        "steps: coarse {}, standard {}, fine {}",
+        steps(&coarse),
+        steps(&standard),
+        steps(&fine)
+    );
+    assert!(steps(&fine) <= 1.5 * steps(&standard), "fine {fine}");
+    assert!(
+        steps(&standard) <= 1.5 * steps(&coarse),
+        "standard {standard}"
+    );
     // Between standard and fine the cell peak moves less than the element maximum.
     let cell = (num(&standard, "max_shear_deg") - f("max_shear_deg")).abs();
     let element = (num(&standard, "max_shear_element_deg") - f("max_shear_element_deg")).abs();
