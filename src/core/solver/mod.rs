@@ -149,6 +149,11 @@ pub struct Solver<'a> {
     /// Levenberg–Marquardt damping on top of the stabilisation (times the cells' stiffness):
     /// grows when the line search cuts hard, decays to 0 while full corrections are accepted.
     levenberg: f64,
+    /// The damping a step starts with: the Levenberg–Marquardt damping after the last step's
+    /// first correction that the line search took (more than a tenth of it), see `newton.rs`.
+    start_damping: f64,
+    /// Whether the current step's first taken correction has set `start_damping`.
+    start_damping_set: bool,
     /// The force tolerance's multiple in force (1, or [`RELAXED_TOLERANCE`] on a step's last
     /// attempt).
     relax: f64,
@@ -193,6 +198,8 @@ impl<'a> Solver<'a> {
             stats: SolveStats::default(),
             ws,
             levenberg: 0.0,
+            start_damping: 0.0,
+            start_damping_set: false,
             relax: 1.0,
             descent: false,
         }

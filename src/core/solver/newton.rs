@@ -148,6 +148,10 @@ impl Solver<'_> {
                 history.damping.push(progress.damping);
             }
             self.adapt_damping(alpha);
+            if !self.start_damping_set && alpha >= 0.1 {
+                self.start_damping_set = true;
+                self.start_damping = self.levenberg;
+            }
             progress.last_full = alpha >= 0.999;
         }
         Err(NewtonError::NoConvergence {
