@@ -152,9 +152,15 @@ impl Solver<'_> {
     /// (`DESCENT_ITERATIONS`), as a model with bending passing a buckle may need, before any
     /// cut. Without bending, never: nothing changes.
     fn begin_descent(&mut self) -> bool {
-        let retry = !self.descent && !self.model.hinges.is_empty();
+        let retry = !self.descent && self.bends();
         self.descent = retry;
         retry
+    }
+
+    /// Whether the model has bending (hinges): a fabric that can buckle, whose steps pass
+    /// buckles and whose path picks among buckled states.
+    fn bends(&self) -> bool {
+        !self.model.hinges.is_empty()
     }
 
     /// Solves one step: the predictor moved back onto the tools, Newton, and for terms that lag
@@ -185,7 +191,7 @@ impl Solver<'_> {
         // line search then rejects it and the damping grows a decade per rejection, every step
         // again. With bending, no: the damping steers which buckled state the descent finds
         // (the holder window's 0.01 MPa fold moved 0.03 mm, and took 22 % more iterations).
-        if self.model.hinges.is_empty() {
+        if !self.bends() {
             self.levenberg = self.levenberg.max(self.start_damping);
         }
         self.start_damping_set = false;
@@ -246,10 +252,9 @@ impl Solver<'_> {
     /// 1/40 and 1/80). A failed step is cut by 4 (`solve`).
     fn next_step(&self, step: f64, iterations: u32) -> f64 {
         let n = self.options.target_iterations.max(2);
-        let buckling = !self.model.hinges.is_empty();
         let factor = if iterations <= n / 2 {
             2.0
-        } else if iterations <= n || !buckling {
+        } else if iterations <= n || !self.bends() {
             1.25
         } else if iterations <= n + n / 2 {
             1.0
