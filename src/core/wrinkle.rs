@@ -2,7 +2,7 @@
 //!
 //! A node is *anchored* where a tool gives it its shape: on the punch, on the die's radius or
 //! wall, or pressed between die and holder. What the tools explain of the free fabric between
-//! them is taken from two smooth surfaces spanned over the anchored nodes ([`Spanned`]): a
+//! them is taken from two smooth surfaces spanned over the anchored nodes (`Spanned`): a
 //! uniform net (harmonic: never beyond its anchors, flat where they are flat) and a plate
 //! (each yarn line a cubic spline through its anchors: it keeps the curvature the anchors give,
 //! a cylinder, a saddle, a dome, the curved wall between a punch and a die, and overshoots where
@@ -166,7 +166,7 @@ fn span_amplitude(nodes: &[usize], dev: &[f64]) -> (f64, usize) {
 }
 
 /// Each node's deviation from what the anchors explain, along its surface normal, mm: its
-/// distance from the nearer of the two surfaces spanned over them ([`Spanned`]) when it lies
+/// distance from the nearer of the two surfaces spanned over them (`Spanned`) when it lies
 /// beyond both on the same side, else 0 (between them it is explained); 0 at the anchored
 /// nodes. `lines` are the mesh's yarn lines, each its nodes in order.
 pub fn deviations_along(

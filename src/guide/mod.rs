@@ -17,6 +17,7 @@
 //! - [`theory`]: the model — the woven-cell law, the membrane element, contact, the solver.
 //! - [`verification`]: the checks with answers from outside the code.
 //! - [`findings`]: dated measurements, each with the command that reproduces it.
+//! - [`cost`]: what a finer answer costs and why, measured session by session.
 
 #[doc = include_str!("architecture.md")]
 pub mod architecture {}
@@ -53,6 +54,9 @@ pub mod verification {}
 
 #[doc = include_str!("findings.md")]
 pub mod findings {}
+
+#[doc = include_str!("cost.md")]
+pub mod cost {}
 
 #[cfg(test)]
 mod layers;

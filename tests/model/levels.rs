@@ -87,3 +87,58 @@ fn each_level_covers_its_distance_to_the_fine_answer_on_an_unmeasured_design() {
     println!("standard to fine: cell peak {cell:.2}°, element maximum {element:.2}°");
     assert!(cell < element, "cell {cell}, element {element}");
 }
+
+/// The load steps' own error is a small part of the standard band. The bands were measured
+/// against the fine level, which walks the same 1/20 of the stroke per step, so they cannot see
+/// the error of the friction path walked in steps; here it is measured directly on a design off
+/// the grid (6/12/6 mm, μ = 0.22): the default steps against steps four times smaller.
+#[test]
+fn the_load_steps_error_is_a_small_part_of_the_standard_band() {
+    use std::path::Path;
+    use wovenform::core::drawing;
+    use wovenform::scene::{Override, Scene};
+    let preset = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/paper-box-open.toml");
+    let sets: Vec<Override> = [
+        "tools.r=6",
+        "tools.rp=12",
+        "tools.rm=6",
+        "process.friction=0.22",
+    ]
+    .iter()
+    .map(|s| s.parse().unwrap())
+    .collect();
+    let problem = Scene::load(Some(&preset), &sets).unwrap().to_problem();
+    let mut short = problem.clone();
+    short.solver.max_step = problem.solver.max_step / 4.0;
+    let [a, b] = [&problem, &short].map(|p| drawing::solve(p, &mut |_| {}));
+    assert!(
+        a.converged && b.converged,
+        "{:?} {:?}",
+        a.failure,
+        b.failure
+    );
+    assert!(
+        b.stats.steps >= 4 * a.stats.steps - 4,
+        "{} {}",
+        a.stats.steps,
+        b.stats.steps
+    );
+    let peak = |r: &drawing::DrawingResult| r.cell_peaks().map(|(_, v)| v);
+    let ([sa, ta], [sb, tb]) = (peak(&a), peak(&b));
+    let shear = (sa - sb).abs();
+    let force = 100.0 * (a.punch_force_n / b.punch_force_n - 1.0).abs();
+    let tension = 100.0 * (ta / tb - 1.0).abs();
+    println!(
+        "steps {} → {}: shear {shear:.3}°, force {force:.2} %, tension {tension:.2} %",
+        a.stats.steps, b.stats.steps
+    );
+    // A quarter of the standard level's band (±1.2°, ±5 %, ±35 %).
+    assert!(shear <= 0.3, "shear {sa} against {sb}");
+    assert!(
+        force <= 1.25,
+        "force {} against {}",
+        a.punch_force_n,
+        b.punch_force_n
+    );
+    assert!(tension <= 8.75, "tension {ta} against {tb}");
+}
