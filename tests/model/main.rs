@@ -13,6 +13,7 @@ mod contact_common;
 
 mod bending;
 mod bias_extension;
+mod box_newton;
 mod capstan;
 mod contact_checks;
 mod developed_view;
