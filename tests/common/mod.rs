@@ -33,6 +33,17 @@ pub fn preset(name: &str) -> String {
         .to_string()
 }
 
+/// A preset's drawing problem with `--set`-style overrides (`"tools.r=7"`).
+pub fn preset_problem(name: &str, sets: &[&str]) -> wovenform::core::drawing::DrawingProblem {
+    let sets: Vec<wovenform::scene::Override> = sets
+        .iter()
+        .map(|s| s.parse().expect("a key=value override"))
+        .collect();
+    wovenform::scene::Scene::load(Some(preset(name).as_ref()), &sets)
+        .expect("the preset loads")
+        .to_problem()
+}
+
 /// Runs the real binary in `dir` with `args`.
 pub fn wovenform_in(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wovenform"))

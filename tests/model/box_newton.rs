@@ -10,25 +10,20 @@
 
 use wovenform::core::drawing;
 use wovenform::core::solver::SolveStats;
-use wovenform::scene::{Override, Scene};
 
 use crate::common;
 
 /// The box's run at standard with the exact or the symmetric Jacobian, to the round-off floor.
 fn run(exact_jacobian: bool) -> SolveStats {
-    let preset = common::preset("paper-box-open.toml");
-    let sets: Vec<Override> = [
-        "tools.r=7",
-        "tools.rp=11",
-        "tools.rm=8",
-        "process.friction=0.17",
-    ]
-    .iter()
-    .map(|s| s.parse().unwrap())
-    .collect();
-    let mut problem = Scene::load(Some(preset.as_ref()), &sets)
-        .unwrap()
-        .to_problem();
+    let mut problem = common::preset_problem(
+        "paper-box-open.toml",
+        &[
+            "tools.r=7",
+            "tools.rp=11",
+            "tools.rm=8",
+            "process.friction=0.17",
+        ],
+    );
     problem.solver.record_residuals = true;
     problem.solver.exact_jacobian = exact_jacobian;
     // The default tolerance (10⁻⁶ of the forces, at least a yarn force of 10⁻⁷ C, a few mN)

@@ -7,7 +7,6 @@
 
 use serde_json::Value;
 use wovenform::core::drawing;
-use wovenform::scene::{Override, Scene};
 
 use crate::common;
 
@@ -96,19 +95,15 @@ fn each_level_covers_its_distance_to_the_fine_answer_on_an_unmeasured_design() {
 /// the grid (6/12/6 mm, μ = 0.22): the default steps against steps four times smaller.
 #[test]
 fn the_load_steps_error_is_a_small_part_of_the_standard_band() {
-    let preset = common::preset("paper-box-open.toml");
-    let sets: Vec<Override> = [
-        "tools.r=6",
-        "tools.rp=12",
-        "tools.rm=6",
-        "process.friction=0.22",
-    ]
-    .iter()
-    .map(|s| s.parse().unwrap())
-    .collect();
-    let problem = Scene::load(Some(preset.as_ref()), &sets)
-        .unwrap()
-        .to_problem();
+    let problem = common::preset_problem(
+        "paper-box-open.toml",
+        &[
+            "tools.r=6",
+            "tools.rp=12",
+            "tools.rm=6",
+            "process.friction=0.22",
+        ],
+    );
     let mut short = problem.clone();
     short.solver.max_step = problem.solver.max_step / 4.0;
     let [a, b] = [&problem, &short].map(|p| drawing::solve(p, &mut |_| {}));
