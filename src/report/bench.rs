@@ -118,7 +118,7 @@ impl Measured {
             "open_box_krylov_iterations": open.krylov_iterations,
             "newton_iteration_s": open.iteration_s(),
             "bare_factor_solve_s": open.bare_factor_solve_s,
-            "open_box_bare_factorizations": open.wall_s / open.bare_factor_solve_s,
+            "open_box_bare_factorizations": open.wall_in_factorizations,
             "open_box_bare_factorizations_target": TARGET_OPEN_BOX_FACTORIZATIONS,
             "wall_dof_exponent_target": TARGET_DOF_EXPONENT,
             "scaling": self.scaling.as_ref().map(scaling_json),
@@ -212,9 +212,8 @@ impl Measured {
         );
         let _ = writeln!(
             out,
-            "{:<48} {:>12.0}   (the open box's whole run over a bare factorization + solve; target ≤ {TARGET_OPEN_BOX_FACTORIZATIONS:.0})",
-            "open box at standard, in bare factorizations",
-            open.wall_s / open.bare_factor_solve_s
+            "{:<48} {:>12.0}   (each run over the bare factorization + solve timed right after it, median; target ≤ {TARGET_OPEN_BOX_FACTORIZATIONS:.0})",
+            "open box at standard, in bare factorizations", open.wall_in_factorizations
         );
         let _ = writeln!(
             out,
