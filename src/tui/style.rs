@@ -94,6 +94,8 @@ mod tests {
             failure: None,
             max_wrinkle_mm: None,
             max_wrinkle_err_mm: None,
+            steps: None,
+            newton_iterations: None,
         });
         app
     }

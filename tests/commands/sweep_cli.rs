@@ -101,7 +101,7 @@ fn rows_equal_run_one_row_per_design_and_invalid_designs_are_listed() {
     let (header, rows) = read_csv(&out.join("results.csv"));
     assert_eq!(
         header.join(","),
-        "r,rp,rm,friction,holder_pressure,max_shear_deg,max_tension_n,punch_force_n,max_shear_err_deg,max_tension_err_pct,punch_force_err_pct,feasible,converged,wall_s,map,design,verdict,failure,max_wrinkle_mm,max_wrinkle_err_mm"
+        "r,rp,rm,friction,holder_pressure,max_shear_deg,max_tension_n,punch_force_n,max_shear_err_deg,max_tension_err_pct,punch_force_err_pct,feasible,converged,wall_s,map,design,verdict,failure,max_wrinkle_mm,max_wrinkle_err_mm,steps,newton_iterations"
     );
     assert_eq!(rows.len(), 6, "one row per design");
     let ids: HashSet<&str> = rows.iter().map(|r| r["design"].as_str()).collect();
@@ -113,6 +113,10 @@ fn rows_equal_run_one_row_per_design_and_invalid_designs_are_listed() {
             assert_eq!(r["feasible"], "false");
             assert_eq!(r["max_shear_deg"], "");
             assert_eq!(r["map"], "");
+            assert_eq!(
+                (r["steps"].as_str(), r["newton_iterations"].as_str()),
+                ("", "")
+            );
             assert!(r["failure"].contains("process.friction = 1.5"), "{r:?}");
         } else {
             assert_eq!(r["converged"], "true", "{r:?}");
@@ -156,6 +160,12 @@ fn rows_equal_run_one_row_per_design_and_invalid_designs_are_listed() {
         }
         assert_eq!(row["feasible"], json["feasible"].to_string());
         assert_eq!(row["converged"], json["converged"].to_string());
+        // What the run cost: the same load steps and Newton iterations as the single run.
+        assert_eq!(row["steps"], json["steps"].to_string());
+        assert_eq!(
+            row["newton_iterations"],
+            json["newton_iterations"].to_string()
+        );
     }
     // results.json: the version, the base scene as run, the grid, every row.
     let json: Value =
@@ -426,29 +436,53 @@ fn write_csv(path: &Path, header: &[String], rows: &[BTreeMap<String, String>]) 
     w.flush().unwrap();
 }
 
-/// A `results.csv` written before the wrinkle columns (the same columns without them) is
-/// this sweep's: its rows are kept on `--resume` and the file is written again with them.
+/// A `results.csv` written before the later columns (the wrinkle columns, then the run's load
+/// steps and Newton iterations: the same columns without them) is this sweep's: its rows are
+/// kept on `--resume`, and the file is written again with those columns, empty for the kept
+/// rows (what they were is not known).
 #[test]
-fn a_results_file_from_before_the_wrinkle_columns_resumes() {
+fn a_results_file_from_before_the_later_columns_resumes() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     let file = sweep_file(dir, "grid.toml", GRID);
     sweep(dir, &file, "out", &[]);
     let csv = dir.join("out/results.csv");
     let (header, all) = read_csv(&csv);
-    let older: Vec<String> = header
-        .iter()
-        .filter(|h| !h.starts_with("max_wrinkle"))
-        .cloned()
-        .collect();
-    assert_eq!(older.len() + 2, header.len());
-    write_csv(&csv, &older, &all);
-    let o = sweep(dir, &file, "out", &["--resume"]);
-    let err = text(&o.stderr);
-    assert!(err.contains("kept 6 rows"), "{err}");
-    let (again, rows) = read_csv(&csv);
-    assert_eq!(again, header);
-    assert_eq!(comparable(&rows), comparable(&all));
+    for lacking in [
+        &["steps", "newton_iterations"][..],
+        &[
+            "max_wrinkle_mm",
+            "max_wrinkle_err_mm",
+            "steps",
+            "newton_iterations",
+        ][..],
+    ] {
+        let older: Vec<String> = header
+            .iter()
+            .filter(|h| !lacking.contains(&h.as_str()))
+            .cloned()
+            .collect();
+        assert_eq!(older.len() + lacking.len(), header.len());
+        write_csv(&csv, &older, &all);
+        let o = sweep(dir, &file, "out", &["--resume"]);
+        let err = text(&o.stderr);
+        assert!(err.contains("kept 6 rows"), "{lacking:?}: {err}");
+        let (again, rows) = read_csv(&csv);
+        assert_eq!(again, header);
+        let known = |rows: &[BTreeMap<String, String>]| {
+            let mut c = comparable(rows);
+            for r in c.values_mut() {
+                r.retain(|k, _| !lacking.contains(&k.as_str()));
+            }
+            c
+        };
+        assert_eq!(known(&rows), known(&all), "{lacking:?}");
+        assert!(
+            rows.iter()
+                .all(|r| r["steps"].is_empty() && r["newton_iterations"].is_empty()),
+            "{lacking:?}: counts not known are written empty"
+        );
+    }
 }
 
 #[test]

@@ -84,6 +84,8 @@ pub fn row(app: &App, index: usize, figures: (f64, f64, f64, f64)) -> Row {
         failure: None,
         max_wrinkle_mm: None,
         max_wrinkle_err_mm: None,
+        steps: None,
+        newton_iterations: None,
     }
 }
 

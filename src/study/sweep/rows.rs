@@ -15,9 +15,10 @@ use crate::verdict::{Figures, Judged, Limits, Verdict};
 
 /// The columns of `results.csv` after the parameters, in order: the contract's figures, then
 /// the design's id, its verdict and why it failed or is invalid, then the wrinkle amplitude and
-/// its error (added after the rest, at the end so that every other column keeps its place;
-/// empty for the paper's membrane).
-pub const FIGURE_COLUMNS: [&str; 15] = [
+/// its error (empty for the paper's membrane), then what the run cost: its load steps and
+/// Newton iterations (each group added after the rest, at the end so that every other column
+/// keeps its place).
+pub const FIGURE_COLUMNS: [&str; 17] = [
     "max_shear_deg",
     "max_tension_n",
     "punch_force_n",
@@ -33,10 +34,17 @@ pub const FIGURE_COLUMNS: [&str; 15] = [
     "failure",
     "max_wrinkle_mm",
     "max_wrinkle_err_mm",
+    "steps",
+    "newton_iterations",
 ];
 
 /// The columns a `results.csv` written before them may lack (read as empty).
-pub const LATER_COLUMNS: [&str; 2] = ["max_wrinkle_mm", "max_wrinkle_err_mm"];
+pub const LATER_COLUMNS: [&str; 4] = [
+    "max_wrinkle_mm",
+    "max_wrinkle_err_mm",
+    "steps",
+    "newton_iterations",
+];
 
 /// One row of the results: a design and what came of it.
 #[derive(Clone, Debug, PartialEq)]
@@ -63,6 +71,9 @@ pub struct Row {
     /// The wrinkle amplitude and its error, mm (to 3 decimals), when the scene has bending.
     pub max_wrinkle_mm: Option<f64>,
     pub max_wrinkle_err_mm: Option<f64>,
+    /// The load steps and Newton iterations the run took, for designs that ran to the end.
+    pub steps: Option<u32>,
+    pub newton_iterations: Option<u32>,
 }
 
 impl Serialize for Row {
@@ -95,6 +106,8 @@ impl Serialize for Row {
         m.serialize_entry("failure", &self.failure)?;
         m.serialize_entry("max_wrinkle_mm", &self.max_wrinkle_mm)?;
         m.serialize_entry("max_wrinkle_err_mm", &self.max_wrinkle_err_mm)?;
+        m.serialize_entry("steps", &self.steps)?;
+        m.serialize_entry("newton_iterations", &self.newton_iterations)?;
         m.end()
     }
 }
@@ -146,6 +159,10 @@ impl Row {
             self.failure.clone().unwrap_or_default(),
             opt(self.max_wrinkle_mm, 3),
             opt(self.max_wrinkle_err_mm, 3),
+            self.steps.map(|n| n.to_string()).unwrap_or_default(),
+            self.newton_iterations
+                .map(|n| n.to_string())
+                .unwrap_or_default(),
         ]);
         csv_line(&fields)
     }
@@ -169,6 +186,8 @@ impl Row {
             failure: Some(reason),
             max_wrinkle_mm: None,
             max_wrinkle_err_mm: None,
+            steps: None,
+            newton_iterations: None,
         }
     }
 
@@ -213,6 +232,8 @@ impl Row {
             }),
             max_wrinkle_mm: s.max_wrinkle_mm.map(|w| round_to(w, 3)),
             max_wrinkle_err_mm: s.max_wrinkle_err_mm.map(|w| round_to(w, 3)),
+            steps: Some(s.steps),
+            newton_iterations: Some(s.newton_iterations),
         }
     }
 
@@ -273,6 +294,8 @@ impl Row {
             _ => None,
         };
         let text = |name: &str| get(name).filter(|s| !s.is_empty()).map(String::from);
+        // A count the row lacks or that does not parse is not known: it decides nothing.
+        let count = |name: &str| get(name).and_then(|s| s.parse::<u32>().ok());
         let verdict = Verdict::parse(get("verdict")?)?;
         let row = Row {
             design: design.id.clone(),
@@ -292,6 +315,8 @@ impl Row {
             failure: text("failure"),
             max_wrinkle_mm: num("max_wrinkle_mm").unwrap_or(None),
             max_wrinkle_err_mm: num("max_wrinkle_err_mm").unwrap_or(None),
+            steps: count("steps"),
+            newton_iterations: count("newton_iterations"),
         };
         // The parameters written must be the design's (the id's hash says so too).
         for (name, v) in &row.params {
@@ -341,6 +366,8 @@ mod tests {
         let d = p.designs();
         let mut row = Row::invalid(&p, &cols, &d[1], "a, \"quoted\"\nreason".into());
         row.max_shear_deg = Some(12.3456);
+        row.steps = Some(20);
+        row.newton_iterations = Some(195);
         let line = row.to_csv();
         assert_eq!(line.matches('\n').count(), 1, "one line per row: {line}");
         let fields = csv::ReaderBuilder::new()

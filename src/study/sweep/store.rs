@@ -254,12 +254,16 @@ fn check_header(
     let expected = column_names(&plan.columns());
     let folder = read_lock(dir).ok().map(|l| column_names(&l.plan.columns()));
     let found: Vec<&str> = found.iter().collect();
-    // A file written before the later columns (`LATER_COLUMNS`) lacks them: its rows read
-    // with those figures empty, and the file is written again whole with them.
+    // A file written before some of the later columns (`LATER_COLUMNS`, each group added at
+    // the end) lacks them: its rows read with those figures empty, and the file is written
+    // again whole with them.
     let same = |names: &[String]| {
-        let all = names.iter().map(String::as_str);
-        let earlier = all.clone().filter(|n| !LATER_COLUMNS.contains(n));
-        all.eq(found.iter().copied()) || earlier.eq(found.iter().copied())
+        let n = found.len();
+        n <= names.len()
+            && names[..n].iter().zip(&found).all(|(a, b)| a == b)
+            && names[n..]
+                .iter()
+                .all(|m| LATER_COLUMNS.contains(&m.as_str()))
     };
     if same(&expected) || folder.as_deref().is_some_and(same) {
         return Ok(());
