@@ -194,6 +194,12 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
             accuracy.element_size_mm()
         )));
     }
+    if let (Some(steps), Some(newton)) = (r.steps, r.newton_iterations) {
+        lines.push(Line::styled(
+            format!("{steps} load steps, {newton} Newton iterations"),
+            st.dim(),
+        ));
+    }
     lines.push(files_line(app, entry, st));
     lines
 }

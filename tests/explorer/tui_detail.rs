@@ -296,3 +296,32 @@ fn a_sweep_on_a_fabric_with_a_shear_law_says_so_in_the_title() {
     // The default (the paper's fabric) has none.
     assert!(!screen(&explorer(false), 100, 24).contains("shear law"));
 }
+
+#[test]
+fn the_detail_says_what_the_run_cost_in_load_steps_and_newton_iterations() {
+    let mut app = explorer(false);
+    app.on_key(key(KeyCode::Char('r')));
+    app.on_message(Message::Started { to_run: 8, kept: 0 });
+    deliver(&mut app, &[1, 2, 3, 4, 5, 6, 7]);
+    let mut r = row(&app, 0, FIGURES[0]);
+    r.steps = Some(20);
+    r.newton_iterations = Some(195);
+    let id = r.design.clone();
+    let locking = app.table_plan().base_scene.fabric.locking_angle_deg;
+    app.on_message(Message::Row(Box::new(r)));
+    app.keep_field(id.clone(), corner_field(&id, FIGURES[0].0, locking));
+    app.on_message(Message::Finished {
+        stopped: false,
+        wall_s: 24.0,
+        error: None,
+    });
+    app.on_key(key(KeyCode::Enter));
+    assert_eq!(app.selected_entry().unwrap().design.index, 0);
+    let s = screen(&app, 120, 40);
+    assert!(s.contains("20 load steps, 195 Newton iterations"), "{s}");
+    // A row that does not carry the counts (one kept from an older results.csv) says nothing.
+    app.on_key(key(KeyCode::Down));
+    assert_eq!(app.selected_entry().unwrap().design.index, 1);
+    let s = screen(&app, 120, 40);
+    assert!(!s.contains("load steps"), "{s}");
+}
