@@ -188,6 +188,15 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
             f.draw_in_mm, f.area_over_limit_pct, f.locking_angle_deg
         )));
     }
+    lines.extend(cost_lines(r, accuracy, st));
+    lines.push(files_line(app, entry, st));
+    lines
+}
+
+/// What the design's run cost: its run time at its level, and its load steps and Newton
+/// iterations where the row carries them.
+fn cost_lines<'a>(r: &Row, accuracy: Accuracy, st: &Styles) -> Vec<Line<'a>> {
+    let mut lines = Vec::new();
     if let Some(w) = r.wall_s {
         lines.push(Line::raw(format!(
             "run time {w:.1} s at {accuracy} ({} mm elements)",
@@ -200,7 +209,6 @@ fn figure_lines<'a>(app: &App, entry: &Entry, st: &Styles) -> Vec<Line<'a>> {
             st.dim(),
         ));
     }
-    lines.push(files_line(app, entry, st));
     lines
 }
 
