@@ -71,7 +71,8 @@ pub struct Row {
     /// The wrinkle amplitude and its error, mm (to 3 decimals), when the scene has bending.
     pub max_wrinkle_mm: Option<f64>,
     pub max_wrinkle_err_mm: Option<f64>,
-    /// The load steps and Newton iterations the run took, for designs that ran to the end.
+    /// The load steps and Newton iterations the run took (to where it stopped, for one that
+    /// failed); `None` for a design that was not solved (invalid, or the program failed).
     pub steps: Option<u32>,
     pub newton_iterations: Option<u32>,
 }
