@@ -10,12 +10,14 @@ use rayon::prelude::*;
 
 use crate::core::drawing::{DrawingResult, Tooling};
 use crate::core::law::CellParams;
+use crate::core::solver::SolveStats;
 use crate::files::write_atomic;
 use crate::report::converge;
 use crate::report::error::DrawError;
 use crate::report::figure6::{figure6_chart, figure6_csv, figure6_table};
 use crate::report::fit::fit_chart;
 use crate::report::maps::{self, MapContext};
+use crate::report::newton_trace;
 use crate::report::sweep::{design_label, field_map, results_json, shared_scale_max, sheet};
 use crate::report::vtu::vtu_string;
 use crate::study::converge::Ladder;
@@ -156,6 +158,25 @@ pub fn write_run(
     write_atomic(&json, (text + "\n").as_bytes()).map_err(io(&json, "write the summary"))?;
     Ok(written)
 }
+
+/// Writes `dir/newton_trace.csv` and `dir/newton_trace.png` (`dir` exists): the run's Newton
+/// iterations as recorded in `stats` ([`crate::report::newton_trace`]); returns their paths.
+pub fn write_newton_trace(
+    dir: &Path,
+    stats: &SolveStats,
+    stroke_mm: f64,
+    title: &str,
+) -> Result<[PathBuf; 2], PublishError> {
+    let csv = dir.join(NEWTON_TRACE_FILES[0]);
+    write_atomic(&csv, newton_trace::csv(stats, stroke_mm).as_bytes())
+        .map_err(io(&csv, "write"))?;
+    let png = dir.join(NEWTON_TRACE_FILES[1]);
+    newton_trace::chart(stats, title).write_png(&png)?;
+    Ok([csv, png])
+}
+
+/// The files [`write_newton_trace`] writes.
+pub const NEWTON_TRACE_FILES: [&str; 2] = ["newton_trace.csv", "newton_trace.png"];
 
 /// Writes `dir/figure6.csv` and `dir/figure6.png` (creating `dir`); returns the paths written.
 pub fn write_figure6(params: CellParams, dir: &Path) -> Result<Vec<PathBuf>, PublishError> {

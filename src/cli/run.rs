@@ -7,8 +7,8 @@ use super::progress::stroke_bar;
 use super::scene_args::{AccuracyArgs, OutArgs, SceneFileArgs};
 use super::{CliError, outputs};
 use wovenform::files::Output;
-use wovenform::publish::{RUN_FILES, write_run};
-use wovenform::study::draw::draw;
+use wovenform::publish::{NEWTON_TRACE_FILES, RUN_FILES, write_newton_trace, write_run};
+use wovenform::study::draw::{draw, draw_traced};
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
@@ -21,6 +21,10 @@ pub struct RunArgs {
     pub json: bool,
     #[command(flatten)]
     pub accuracy: AccuracyArgs,
+    /// Also write every Newton iteration of the run: `newton_trace.csv` (residual, active-set
+    /// changes, line search length, where the residual sits) and `newton_trace.png`.
+    #[arg(long)]
+    pub newton_trace: bool,
 }
 
 pub fn exec(args: RunArgs) -> Result<(), CliError> {
@@ -29,6 +33,9 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
     // The output folder is checked before the solve, so a bad one costs nothing.
     let dir = args.out.dir("", file);
     let mut files = outputs::replaceable(&dir, &RUN_FILES[1..]);
+    if args.newton_trace {
+        files.extend(outputs::replaceable(&dir, &NEWTON_TRACE_FILES));
+    }
     files.push(Output::owned_if(
         dir.join("summary.json"),
         outputs::SUMMARY_JSON_HEAD,
@@ -37,10 +44,23 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
     let stroke = scene.process.stroke;
     let bar = stroke_bar(stroke);
     let name = outputs::stem(file, "scene");
-    let mut drawn = draw(&name, &scene, &mut |f| {
+    let solve = if args.newton_trace { draw_traced } else { draw };
+    let mut drawn = solve(&name, &scene, &mut |f| {
         super::progress::show_stroke(&bar, f, stroke)
     });
     bar.finish_and_clear();
+    if args.newton_trace {
+        let stats = &drawn.result.stats;
+        let title = format!(
+            "Newton iterations of {name}: {} in {} load steps",
+            stats.newton_iterations, stats.steps
+        );
+        let written = write_newton_trace(&dir, stats, stroke, &title)?;
+        for (kind, path) in ["newton_trace", "newton_trace_chart"].iter().zip(&written) {
+            (drawn.summary.files).insert(kind.to_string(), path.display().to_string());
+        }
+    }
+    // After the trace, so that summary.json names its files too.
     let tooling = &drawn.problem.tooling;
     write_run(&dir, &mut drawn.summary, &drawn.result, tooling)?;
     if args.json {

@@ -119,6 +119,12 @@ impl CellLaw {
         c_mean / l_mean
     }
 
+    /// The width of the toe rounding the slack/taut kink, as a yarn strain (0: the paper's
+    /// kink).
+    pub fn toe(&self) -> f64 {
+        self.toe
+    }
+
     pub fn new(p: CellParams) -> Self {
         let len0 = |a: usize| (p.l0[a] * p.l0[a] + 4.0 * p.e0[a] * p.e0[a]).sqrt();
         CellLaw {

@@ -18,6 +18,7 @@
 //! - [`verification`]: the checks with answers from outside the code.
 //! - [`findings`]: dated measurements, each with the command that reproduces it.
 //! - [`cost`]: what a finer answer costs and why, measured session by session.
+//! - [`cost_newton`]: where Newton's iterations go, read from `run --newton-trace`.
 
 #[doc = include_str!("architecture.md")]
 pub mod architecture {}
@@ -57,6 +58,9 @@ pub mod findings {}
 
 #[doc = include_str!("cost.md")]
 pub mod cost {}
+
+#[doc = include_str!("cost_newton.md")]
+pub mod cost_newton {}
 
 #[cfg(test)]
 mod layers;

@@ -12,6 +12,7 @@ pub mod fit;
 pub mod frontier;
 pub mod maps;
 pub mod mirror;
+pub mod newton_trace;
 pub mod panels;
 pub mod plot;
 pub mod sheet;

@@ -15,7 +15,24 @@ pub struct Drawn {
 /// Solves `scene` (called `name` in the summary); `progress` hears the fraction of the stroke
 /// done.
 pub fn draw(name: &str, scene: &Scene, progress: &mut dyn FnMut(f64)) -> Drawn {
-    let problem = scene.to_problem();
+    solve(name, scene, scene.to_problem(), progress)
+}
+
+/// [`draw`] with every Newton iteration recorded (`result.stats`: residuals, active-set
+/// changes, line search lengths, where each residual sits) for `run --newton-trace`. The
+/// recording costs a little time; the answer is the same.
+pub fn draw_traced(name: &str, scene: &Scene, progress: &mut dyn FnMut(f64)) -> Drawn {
+    let mut problem = scene.to_problem();
+    problem.solver.record_residuals = true;
+    solve(name, scene, problem, progress)
+}
+
+fn solve(
+    name: &str,
+    scene: &Scene,
+    problem: DrawingProblem,
+    progress: &mut dyn FnMut(f64),
+) -> Drawn {
     let start = std::time::Instant::now();
     let result = drawing::solve(&problem, progress);
     let wall_s = start.elapsed().as_secs_f64();

@@ -18,6 +18,7 @@ mod frontier_cli;
 mod hostile;
 mod mesh_hostile_cli;
 mod mesh_scene_cli;
+mod newton_trace_cli;
 mod run_cli;
 mod scene_errors;
 mod slurm_cli;

@@ -6,7 +6,8 @@
 //! - `correction.rs`: the Newton correction (sparse Cholesky, GMRES over the non-symmetric rest);
 //! - `line_search.rs`: backtracking along the correction;
 //! - `newton.rs`: the iterations of one load step;
-//! - `stepping.rs`: the load path: predictor, steps, cut-backs.
+//! - `stepping.rs`: the load path: predictor, steps, cut-backs;
+//! - `site.rs`: where an iteration's residual sits (recorded with `record_residuals`).
 //!
 //! The paper's fabric has no in-plane shear stiffness and no bending stiffness, so parts of a
 //! sheet can be mechanisms. The Newton corrections are stabilised by a pseudo-transient term:
@@ -20,11 +21,13 @@ mod correction;
 mod line_search;
 mod model;
 mod newton;
+mod site;
 mod stepping;
 mod terms;
 
 pub use model::{BadElement, Model};
 pub use newton::NewtonError;
+pub use site::ResidualSite;
 pub use stepping::Failure;
 pub use terms::{
     LinearPrescribed, NoNodalTerms, NodalSums, NodalTerms, NodeBlock, Prescribed, RankOne,
@@ -133,6 +136,10 @@ pub struct SolveStats {
     /// stiffness) of each correction.
     pub alphas: Vec<Vec<f64>>,
     pub damping: Vec<Vec<f64>>,
+    /// For the same iterations: where the residual sits.
+    pub sites: Vec<Vec<ResidualSite>>,
+    /// The load factor each recorded step ended at.
+    pub step_loads: Vec<f64>,
     /// Work of the forces left out of balance at each converged step (the residual within the
     /// tolerance) along the path, N·mm: what of the punch's work is not the model's.
     pub unbalanced_work: f64,

@@ -68,6 +68,8 @@ pub(super) struct History {
     /// The damping and the line search's length of each correction (recorded likewise).
     pub damping: Vec<f64>,
     pub alphas: Vec<f64>,
+    /// Where each iteration's residual sits (recorded likewise).
+    pub sites: Vec<super::site::ResidualSite>,
     /// The residual of the state that converged, over the free dofs, N.
     pub converged_residual: Vec<f64>,
     last_active: Option<Vec<bool>>,
@@ -118,6 +120,9 @@ impl Solver<'_> {
                 });
                 history.changes.push(changes as u32);
                 history.last_active = Some(active);
+                history
+                    .sites
+                    .push(super::site::locate(self.model, &self.ws.blocks, &a.r));
             }
             // Converged when the forces balance to the tolerance at a state this call has
             // corrected (or that converged a moment ago). No test on the correction's size:

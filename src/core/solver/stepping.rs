@@ -236,6 +236,8 @@ impl Solver<'_> {
             self.stats.active_changes.push(history.changes);
             self.stats.alphas.push(history.alphas);
             self.stats.damping.push(history.damping);
+            self.stats.sites.push(history.sites);
+            self.stats.step_loads.push(attempt.target);
         }
         du
     }

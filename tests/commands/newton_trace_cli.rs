@@ -1,0 +1,104 @@
+//! `wovenform run --newton-trace`: a row per Newton iteration, in step with the run's own
+//! counts, and a run that is the same with the trace as without it.
+
+use std::path::Path;
+
+use serde_json::Value;
+
+use crate::common::{preset, text, wovenform_in};
+
+/// The open box, coarse and shallow: a run of well under a second.
+const QUICK: [&str; 6] = [
+    "--set",
+    "mesh.element_size=5",
+    "--set",
+    "process.stroke=6",
+    "--set",
+    "blank.size=140",
+];
+
+const COLUMNS: &str = "step,load_factor,punch_travel_mm,iteration,residual_n,active_changes,\
+line_search_length,damping,largest_node,largest_x_mm,largest_y_mm,largest_z_mm,\
+largest_residual_n,largest_touching,share_touching,share_on_toe";
+
+fn run(dir: &Path, out: &Path, extra: &[&str]) -> Value {
+    let open = preset("paper-box-open.toml");
+    let args = [
+        &[
+            "run",
+            open.as_str(),
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ][..],
+        &QUICK,
+        extra,
+    ]
+    .concat();
+    let o = wovenform_in(dir, &args);
+    assert_eq!(o.status.code(), Some(0), "stderr: {}", text(&o.stderr));
+    serde_json::from_str(text(&o.stdout).trim()).unwrap()
+}
+
+fn field(row: &[&str], i: usize) -> f64 {
+    row[i]
+        .parse()
+        .unwrap_or_else(|e| panic!("column {i} of {row:?}: {e}"))
+}
+
+#[test]
+fn the_trace_has_a_row_per_iteration_and_leaves_the_run_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let (plain, traced) = (dir.path().join("plain"), dir.path().join("traced"));
+    let a = run(dir.path(), &plain, &[]);
+    let b = run(dir.path(), &traced, &["--newton-trace"]);
+    for k in ["max_shear_deg", "max_tension_n", "punch_force_n", "steps"] {
+        assert_eq!(a[k], b[k], "{k} moved with the trace");
+    }
+    assert_eq!(a["newton_iterations"], b["newton_iterations"]);
+    assert!(
+        !plain.join("newton_trace.csv").exists(),
+        "a trace nobody asked for"
+    );
+    let csv_path = traced.join("newton_trace.csv");
+    assert_eq!(b["files"]["newton_trace"], csv_path.to_str().unwrap());
+
+    let body = std::fs::read_to_string(&csv_path).unwrap();
+    let mut lines = body.lines();
+    assert_eq!(lines.next(), Some(COLUMNS));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let corrections = rows.iter().filter(|r| !r[6].is_empty()).count();
+    let ends: Vec<&Vec<&str>> = rows.iter().filter(|r| r[6].is_empty()).collect();
+    assert_eq!(corrections as u64, b["newton_iterations"].as_u64().unwrap());
+    assert_eq!(ends.len() as u64, b["steps"].as_u64().unwrap());
+    // The last step ends at the full stroke.
+    let last = ends.last().unwrap();
+    assert!((field(last, 1) - 1.0).abs() < 1e-9, "{last:?}");
+    assert!((field(last, 2) - 6.0).abs() < 1e-6, "{last:?}");
+    for r in &rows {
+        assert_eq!(r.len(), 16, "{r:?}");
+        let (total, node) = (field(r, 4), field(r, 12));
+        // A node's share of the residual vector has a norm no larger than the whole's.
+        assert!(node <= total * (1.0 + 1e-3) + 1e-12, "{r:?}");
+        for i in [14, 15] {
+            assert!((0.0..=1.0).contains(&field(r, i)), "{r:?}");
+        }
+        if !r[6].is_empty() {
+            assert!((0.0..=1.0).contains(&field(r, 6)), "{r:?}");
+        }
+    }
+    // Each step ends far below where it began: Newton converged on every one.
+    for step in 1..=ends.len() {
+        let of: Vec<f64> = rows
+            .iter()
+            .filter(|r| r[0] == step.to_string())
+            .map(|r| field(r, 4))
+            .collect();
+        assert!(of.last().unwrap() < &(of[0] * 1e-3), "step {step}: {of:?}");
+    }
+
+    let png = traced.join("newton_trace.png");
+    assert_eq!(b["files"]["newton_trace_chart"], png.to_str().unwrap());
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert!(img.width() >= 800 && img.height() >= 500);
+}
