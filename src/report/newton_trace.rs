@@ -6,8 +6,9 @@ use crate::core::solver::SolveStats;
 use crate::report::plot::{Colour, LineChart, Scale, Series};
 
 /// The trace's columns, in order.
-pub const COLUMNS: [&str; 16] = [
+pub const COLUMNS: [&str; 17] = [
     "step",
+    "accepted",
     "load_factor",
     "punch_travel_mm",
     "iteration",
@@ -25,60 +26,71 @@ pub const COLUMNS: [&str; 16] = [
     "share_on_toe",
 ];
 
-/// The trace as CSV: one row per iteration of each accepted step (a step's last row is the
-/// state that converged: it has no correction, so no line search length or damping). Empty
-/// of rows when the run did not record its iterations.
+/// The trace as CSV: one row per iteration of each attempted load step. `step` counts the
+/// load steps; an attempt that was cut back (`accepted` false) and its retry share a number. A
+/// step's last row is the state it converged at (or stopped at): it has no correction, so no
+/// line search length or damping. A correction whose line search found no length to take has
+/// length 0. Empty of rows when the run did not record its iterations.
 pub fn csv(stats: &SolveStats, stroke_mm: f64) -> String {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(COLUMNS).expect("writing to memory");
+    let mut step = 1;
     for (s, residuals) in stats.residuals.iter().enumerate() {
+        let accepted = stats.step_accepted.get(s).copied().unwrap_or(true);
         let load = stats.step_loads.get(s).copied().unwrap_or(f64::NAN);
-        for (k, &r) in residuals.iter().enumerate() {
-            let changes = stats.active_changes.get(s).and_then(|c| c.get(k));
-            let alpha = stats.alphas.get(s).and_then(|a| a.get(k));
-            let damping = stats.damping.get(s).and_then(|d| d.get(k));
-            let site = stats.sites.get(s).and_then(|x| x.get(k));
-            let opt =
-                |v: Option<&f64>, fmt: fn(f64) -> String| v.map_or(String::new(), |&v| fmt(v));
-            let e3 = |v: f64| format!("{v:.3e}");
-            let f4 = |v: f64| format!("{v:.4}");
+        for k in 0..residuals.len() {
             let mut row = vec![
-                (s + 1).to_string(),
+                step.to_string(),
+                accepted.to_string(),
                 format!("{load:.5}"),
                 format!("{:.3}", load * stroke_mm),
-                k.to_string(),
-                e3(r),
-                changes.map_or(String::new(), |c| c.to_string()),
-                opt(alpha, f4),
-                opt(damping, e3),
             ];
-            match site {
-                Some(x) => row.extend([
-                    x.node.to_string(),
-                    format!("{:.3}", x.position_mm[0]),
-                    format!("{:.3}", x.position_mm[1]),
-                    format!("{:.3}", x.position_mm[2]),
-                    e3(x.residual_n),
-                    x.touching.to_string(),
-                    format!("{:.3}", x.share_touching),
-                    format!("{:.3}", x.share_on_toe),
-                ]),
-                None => row.extend(std::iter::repeat_n(String::new(), 8)),
-            }
+            row.extend(iteration_fields(stats, s, k));
             w.write_record(&row).expect("writing to memory");
         }
+        step += usize::from(accepted);
     }
     String::from_utf8(w.into_inner().expect("writing to memory")).expect("CSV of ASCII")
 }
 
+/// The columns from `iteration` on, for iteration `k` of recorded attempt `s`.
+fn iteration_fields(stats: &SolveStats, s: usize, k: usize) -> Vec<String> {
+    let at = |v: &Vec<Vec<f64>>| v.get(s).and_then(|a| a.get(k)).copied();
+    let e3 = |v: f64| format!("{v:.3e}");
+    let opt = |v: Option<f64>, fmt: &dyn Fn(f64) -> String| v.map_or(String::new(), fmt);
+    let changes = stats.active_changes.get(s).and_then(|c| c.get(k));
+    let mut row = vec![
+        k.to_string(),
+        opt(at(&stats.residuals), &e3),
+        changes.map_or(String::new(), |c| c.to_string()),
+        opt(at(&stats.alphas), &|v| format!("{v:.4}")),
+        opt(at(&stats.damping), &e3),
+    ];
+    match stats.sites.get(s).and_then(|x| x.get(k)) {
+        Some(x) => row.extend([
+            x.node.to_string(),
+            format!("{:.3}", x.position_mm[0]),
+            format!("{:.3}", x.position_mm[1]),
+            format!("{:.3}", x.position_mm[2]),
+            e3(x.residual_n),
+            x.touching.to_string(),
+            format!("{:.3}", x.share_touching),
+            format!("{:.3}", x.share_on_toe),
+        ]),
+        None => row.extend(std::iter::repeat_n(String::new(), 8)),
+    }
+    row
+}
+
 /// The residual of every iteration against the iterations counted through the run
-/// (logarithmic), a line per load step; a cross marks an iteration after which the active set
-/// (slack yarns, contacts) changed, a dot one after which it did not.
+/// (logarithmic), a line per load step (dashed for an attempt that was cut back); a cross marks
+/// an iteration after which the active set (slack yarns, contacts) changed, a dot one after
+/// which it did not.
 pub fn chart(stats: &SolveStats, title: &str) -> LineChart {
     let mut chart = LineChart::new(title, "Newton iterations through the run", "residual (N)");
     chart.y_scale = Scale::Log;
     let (mut changed, mut settled) = (Vec::new(), Vec::new());
-    let mut count = 0usize;
+    let (mut count, mut cut_back) = (0usize, false);
     for (s, residuals) in stats.residuals.iter().enumerate() {
         let mut line = Vec::with_capacity(residuals.len());
         for (k, &r) in residuals.iter().enumerate() {
@@ -91,9 +103,18 @@ pub fn chart(stats: &SolveStats, title: &str) -> LineChart {
                 _ => {}
             }
         }
-        // A step's last residual is its converged state, where the next step starts from.
-        count += residuals.len().saturating_sub(1);
-        chart.push(Series::line("", line, Colour::GREY));
+        // Counted in corrections: a converged step's last residual has none, and is where the
+        // next step starts from.
+        let corrections = stats.alphas.get(s).map(Vec::len);
+        count += corrections.unwrap_or(residuals.len().saturating_sub(1));
+        if stats.step_accepted.get(s).copied().unwrap_or(true) {
+            chart.push(Series::line("", line, Colour::GREY));
+        } else {
+            // An attempt cut back: dashed, named in the legend once.
+            let name = if cut_back { "" } else { "an attempt cut back" };
+            cut_back = true;
+            chart.push(Series::dashed(name, line, Colour::PALETTE[1]));
+        }
     }
     chart.push(Series::crosses(
         "after a change of the active set",
@@ -125,6 +146,7 @@ mod tests {
                 vec![ResidualSite::default(); 2],
             ],
             step_loads: vec![0.05, 0.1],
+            step_accepted: vec![true, true],
             ..Default::default()
         }
     }
@@ -138,10 +160,43 @@ mod tests {
         // Step 1's converged state: no line search length, no damping.
         let last: Vec<&str> = lines[3].split(',').collect();
         assert_eq!(
-            &last[..8],
-            ["1", "0.05000", "1.400", "2", "1.000e-1", "0", "", ""]
+            &last[..9],
+            [
+                "1", "true", "0.05000", "1.400", "2", "1.000e-1", "0", "", ""
+            ]
         );
-        assert!(lines[4].starts_with("2,0.10000,2.800,0,5.000e1,0,1.0000,"));
+        assert!(lines[4].starts_with("2,true,0.10000,2.800,0,5.000e1,0,1.0000,"));
+    }
+
+    #[test]
+    fn an_attempt_cut_back_keeps_its_rows_and_its_step_number() {
+        let mut s = stats();
+        // Step 2 first failed at 0.15 (its line search found nothing), then converged at 0.1.
+        s.residuals.insert(1, vec![60.0, 40.0]);
+        s.active_changes.insert(1, vec![0, 5]);
+        s.alphas.insert(1, vec![0.5, 0.0]);
+        s.damping.insert(1, vec![1e-4, 1e-3]);
+        s.sites.insert(1, vec![ResidualSite::default(); 2]);
+        s.step_loads.insert(1, 0.15);
+        s.step_accepted.insert(1, false);
+        let text = csv(&s, 28.0);
+        let steps: Vec<&str> = text
+            .lines()
+            .skip(1)
+            .map(|l| &l[..l.find(',').unwrap()])
+            .collect();
+        assert_eq!(steps, ["1", "1", "1", "2", "2", "2", "2"]);
+        assert!(
+            text.lines()
+                .nth(5)
+                .unwrap()
+                .starts_with("2,false,0.15000,4.200,1,4.000e1,5,0.0000,")
+        );
+        let c = chart(&s, "t");
+        assert_eq!(c.series.len(), 5);
+        // The failed attempt's two corrections come before the retry's.
+        assert_eq!(c.series[1].points, vec![(2.0, 60.0), (3.0, 40.0)]);
+        assert_eq!(c.series[2].points, vec![(4.0, 50.0), (5.0, 0.5)]);
     }
 
     #[test]

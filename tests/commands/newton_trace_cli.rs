@@ -17,7 +17,7 @@ const QUICK: [&str; 6] = [
     "blank.size=140",
 ];
 
-const COLUMNS: &str = "step,load_factor,punch_travel_mm,iteration,residual_n,active_changes,\
+const COLUMNS: &str = "step,accepted,load_factor,punch_travel_mm,iteration,residual_n,active_changes,\
 line_search_length,damping,largest_node,largest_x_mm,largest_y_mm,largest_z_mm,\
 largest_residual_n,largest_touching,share_touching,share_on_toe";
 
@@ -66,25 +66,40 @@ fn the_trace_has_a_row_per_iteration_and_leaves_the_run_alone() {
     let body = std::fs::read_to_string(&csv_path).unwrap();
     let mut lines = body.lines();
     assert_eq!(lines.next(), Some(COLUMNS));
+    let col = |name: &str| COLUMNS.split(',').position(|c| c == name).unwrap();
+    let (length, residual, node) = (
+        col("line_search_length"),
+        col("residual_n"),
+        col("largest_residual_n"),
+    );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    let corrections = rows.iter().filter(|r| !r[6].is_empty()).count();
-    let ends: Vec<&Vec<&str>> = rows.iter().filter(|r| r[6].is_empty()).collect();
+    let corrections = rows.iter().filter(|r| !r[length].is_empty()).count();
+    let ends: Vec<&Vec<&str>> = rows.iter().filter(|r| r[length].is_empty()).collect();
     assert_eq!(corrections as u64, b["newton_iterations"].as_u64().unwrap());
+    // No cut-back on this run: every attempt converged, one per load step.
+    assert_eq!(b["cutbacks"], 0);
+    assert!(rows.iter().all(|r| r[col("accepted")] == "true"));
     assert_eq!(ends.len() as u64, b["steps"].as_u64().unwrap());
     // The last step ends at the full stroke.
     let last = ends.last().unwrap();
-    assert!((field(last, 1) - 1.0).abs() < 1e-9, "{last:?}");
-    assert!((field(last, 2) - 6.0).abs() < 1e-6, "{last:?}");
+    assert!(
+        (field(last, col("load_factor")) - 1.0).abs() < 1e-9,
+        "{last:?}"
+    );
+    assert!(
+        (field(last, col("punch_travel_mm")) - 6.0).abs() < 1e-6,
+        "{last:?}"
+    );
     for r in &rows {
-        assert_eq!(r.len(), 16, "{r:?}");
-        let (total, node) = (field(r, 4), field(r, 12));
+        assert_eq!(r.len(), 17, "{r:?}");
+        let (total, at_node) = (field(r, residual), field(r, node));
         // A node's share of the residual vector has a norm no larger than the whole's.
-        assert!(node <= total * (1.0 + 1e-3) + 1e-12, "{r:?}");
-        for i in [14, 15] {
-            assert!((0.0..=1.0).contains(&field(r, i)), "{r:?}");
+        assert!(at_node <= total * (1.0 + 1e-3) + 1e-12, "{r:?}");
+        for name in ["share_touching", "share_on_toe"] {
+            assert!((0.0..=1.0).contains(&field(r, col(name))), "{r:?}");
         }
-        if !r[6].is_empty() {
-            assert!((0.0..=1.0).contains(&field(r, 6)), "{r:?}");
+        if !r[length].is_empty() {
+            assert!((0.0..=1.0).contains(&field(r, length)), "{r:?}");
         }
     }
     // Each step ends far below where it began: Newton converged on every one.
@@ -92,7 +107,7 @@ fn the_trace_has_a_row_per_iteration_and_leaves_the_run_alone() {
         let of: Vec<f64> = rows
             .iter()
             .filter(|r| r[0] == step.to_string())
-            .map(|r| field(r, 4))
+            .map(|r| field(r, residual))
             .collect();
         assert!(of.last().unwrap() < &(of[0] * 1e-3), "step {step}: {of:?}");
     }

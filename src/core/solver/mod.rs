@@ -127,7 +127,8 @@ pub struct SolveStats {
     /// A solve met a singular tangent during the run: part of the blank was a mechanism
     /// (zero-stiffness trellising or slack yarns) held by nothing.
     pub mechanism: bool,
-    /// Residual norms of each Newton iteration, per accepted step (if recorded).
+    /// Residual norms of each Newton iteration, per attempted load step (if recorded): the
+    /// attempts that were cut back or failed are kept too, marked in `step_accepted`.
     pub residuals: Vec<Vec<f64>>,
     /// For the same iterations: how many yarns changed between slack and taut, or nodes between
     /// touching a tool and not, since the iteration before (the active set's changes).
@@ -138,13 +139,25 @@ pub struct SolveStats {
     pub damping: Vec<Vec<f64>>,
     /// For the same iterations: where the residual sits.
     pub sites: Vec<Vec<ResidualSite>>,
-    /// The load factor each recorded step ended at.
+    /// The load factor each recorded attempt aimed at.
     pub step_loads: Vec<f64>,
+    /// Whether each recorded attempt converged (false: it was cut back, or the run failed on it).
+    pub step_accepted: Vec<bool>,
     /// Work of the forces left out of balance at each converged step (the residual within the
     /// tolerance) along the path, N·mm: what of the punch's work is not the model's.
     pub unbalanced_work: f64,
     /// Load factor reached.
     pub lambda: f64,
+}
+
+impl SolveStats {
+    /// The recorded residual histories of the load steps that converged.
+    pub fn accepted_residuals(&self) -> impl Iterator<Item = &Vec<f64>> {
+        let accepted = |s: usize| self.step_accepted.get(s).copied().unwrap_or(true);
+        (self.residuals.iter().enumerate())
+            .filter(move |(s, _)| accepted(*s))
+            .map(|(_, h)| h)
+    }
 }
 
 /// Drives a model along the load path.

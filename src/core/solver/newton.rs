@@ -83,6 +83,36 @@ struct Progress {
     last_full: bool,
     /// The damping of the last correction, times the cells' stiffness.
     damping: f64,
+    /// Full corrections in a row.
+    full_run: usize,
+}
+
+/// Full corrections in a row after which a residual that has not halved is a stall.
+const STALL_RUN: usize = 4;
+
+impl Progress {
+    /// Newton caught in a cycle: [`STALL_RUN`] full corrections in a row that did not halve the
+    /// residual (`residuals`, this one last). Seen on fine meshes at the box's corner, where
+    /// yarns cross the toe's end and back at every correction and the residual alternates
+    /// between two values (133 N ± 1 % for 36 iterations, then a cut-back). The line search
+    /// accepts each one, since each lowers either the merit or the residual a little. Half the
+    /// correction lands between the two states of the cycle and breaks it. Returns the scale
+    /// applied to `c` (1 or ½).
+    fn cycle_breaker(&mut self, residuals: &[f64], c: &mut Correction) -> f64 {
+        let n = residuals.len();
+        if self.full_run < STALL_RUN || n <= STALL_RUN {
+            return 1.0;
+        }
+        if residuals[n - 1] <= 0.5 * residuals[n - 1 - STALL_RUN] {
+            return 1.0;
+        }
+        for v in &mut c.du {
+            *v *= 0.5;
+        }
+        c.slope *= 0.5;
+        self.full_run = 0;
+        0.5
+    }
 }
 
 impl Solver<'_> {
@@ -101,6 +131,7 @@ impl Solver<'_> {
             first_residual: None,
             last_full: false,
             damping: 0.0,
+            full_run: 0,
         };
         let cap = self.iteration_cap();
         for it in 0..=cap {
@@ -114,15 +145,7 @@ impl Solver<'_> {
             let rn = norm2(&a.r);
             history.residuals.push(rn);
             if self.options.record_residuals {
-                let active = self.active_set();
-                let changes = history.last_active.as_ref().map_or(0, |last| {
-                    last.iter().zip(&active).filter(|(a, b)| a != b).count()
-                });
-                history.changes.push(changes as u32);
-                history.last_active = Some(active);
-                history
-                    .sites
-                    .push(super::site::locate(self.model, &self.ws.blocks, &a.r));
+                self.record_state(history, &a.r);
             }
             // Converged when the forces balance to the tolerance at a state this call has
             // corrected (or that converged a moment ago). No test on the correction's size:
@@ -137,7 +160,8 @@ impl Solver<'_> {
             if it == cap {
                 break;
             }
-            let c = self.correction(&a, rn, &mut progress)?;
+            let mut c = self.correction(&a, rn, &mut progress)?;
+            let scale = progress.cycle_breaker(&history.residuals, &mut c);
             let x = self.model.positions();
             terms.freeze(lambda, &x);
             let base = Base {
@@ -146,23 +170,44 @@ impl Solver<'_> {
                 slope: c.slope,
                 tolerance,
             };
-            let (alpha, next) = self.search(lambda, &*terms, &x, &c, &base, progress.last_full)?;
-            carried = next;
+            let searched = self.search(lambda, &*terms, &x, &c, &base, progress.last_full);
+            // A failed search's correction was counted: its row says no length was taken.
+            let taken = searched.as_ref().map_or(0.0, |(alpha, _)| alpha * scale);
             if self.options.record_residuals {
-                history.alphas.push(alpha);
+                history.alphas.push(taken);
                 history.damping.push(progress.damping);
             }
+            let (alpha, next) = searched?;
+            carried = next;
             self.adapt_damping(alpha);
             if !self.start_damping_set && alpha >= 0.1 {
                 self.start_damping_set = true;
                 self.start_damping = self.levenberg;
             }
+            // Of the correction as searched (halved or not).
             progress.last_full = alpha >= 0.999;
+            progress.full_run = if progress.last_full {
+                progress.full_run + 1
+            } else {
+                0
+            };
         }
         Err(NewtonError::NoConvergence {
             iterations: cap,
             residual_n: history.residuals.last().copied().unwrap_or(f64::NAN),
         })
+    }
+
+    /// Records an iteration's state: the active set's changes since the last one, and where the
+    /// residual `r` sits.
+    fn record_state(&self, history: &mut History, r: &[f64]) {
+        let active = self.active_set();
+        let changes = history.last_active.as_ref().map_or(0, |last| {
+            last.iter().zip(&active).filter(|(a, b)| a != b).count()
+        });
+        history.changes.push(changes as u32);
+        history.last_active = Some(active);
+        (history.sites).push(super::site::locate(self.model, &self.ws.blocks, r));
     }
 
     /// Which yarns are slack (each Gauss point's two) and which nodes the tools touch, at the

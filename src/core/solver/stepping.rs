@@ -94,8 +94,9 @@ impl Solver<'_> {
                 u_start: self.model.u.clone(),
                 crimp_start: self.model.crimp.clone(),
             };
-            match self.attempt(&attempt, prescribed, terms, previous.as_ref()) {
-                Ok((iterations, history)) => {
+            let mut history = History::default();
+            match self.attempt(&attempt, prescribed, terms, previous.as_ref(), &mut history) {
+                Ok(iterations) => {
                     if self.relax > 1.0 {
                         self.stats.relaxed_steps += 1;
                         self.relax = 1.0;
@@ -111,6 +112,7 @@ impl Solver<'_> {
                     step = self.next_step(step, iterations);
                 }
                 Err(cause) => {
+                    self.record(&attempt, history, false);
                     // Back to the step's start, a quarter of the increment, no predictor. The
                     // Levenberg–Marquardt damping the failed attempt raised is kept: the retry
                     // starts cautious (resetting it made the stiffest fabrics fail).
@@ -172,7 +174,8 @@ impl Solver<'_> {
         prescribed: &dyn Prescribed,
         terms: &mut dyn NodalTerms,
         previous: Option<&(f64, Vec<f64>)>,
-    ) -> Result<(u32, History), NewtonError> {
+        history: &mut History,
+    ) -> Result<u32, NewtonError> {
         let (lambda, target) = (attempt.lambda, attempt.target);
         terms.begin_step(lambda, target, &self.model.positions());
         if let Some((dl, du)) = previous {
@@ -184,7 +187,6 @@ impl Solver<'_> {
             terms.project(target, &mut x);
             self.model.set_free_positions(&x);
         }
-        let mut history = History::default();
         // A membrane step starts where the last one's first correction was taken: the mid-side
         // flange panels, hanging on sliding friction past a slack radial yarn, are a mechanism
         // the tangent cannot see, and an undamped first correction throws them outward; the
@@ -195,18 +197,18 @@ impl Solver<'_> {
             self.levenberg = self.levenberg.max(self.start_damping);
         }
         self.start_damping_set = false;
-        let mut iterations = self.newton(target, terms, false, &mut history)?;
+        let mut iterations = self.newton(target, terms, false, history)?;
         for _ in 0..self.options.max_lag_passes {
             if !terms.relag(target, &self.model.positions()) {
                 break;
             }
-            let more = self.newton(target, terms, true, &mut history)?;
+            let more = self.newton(target, terms, true, history)?;
             iterations += more;
             if more == 0 {
                 break;
             }
         }
-        Ok((iterations, history))
+        Ok(iterations)
     }
 
     /// Takes a converged step: the counters, the work its unbalanced residual did, the
@@ -231,6 +233,12 @@ impl Solver<'_> {
         self.stats.steps += 1;
         self.stats.lambda = attempt.target;
         self.stats.law_iterations = self.ws.law_iterations;
+        self.record(attempt, history, true);
+        du
+    }
+
+    /// Keeps an attempt's iterations when they are recorded (`record_residuals`).
+    fn record(&mut self, attempt: &Attempt, history: History, accepted: bool) {
         if self.options.record_residuals {
             self.stats.residuals.push(history.residuals);
             self.stats.active_changes.push(history.changes);
@@ -238,8 +246,8 @@ impl Solver<'_> {
             self.stats.damping.push(history.damping);
             self.stats.sites.push(history.sites);
             self.stats.step_loads.push(attempt.target);
+            self.stats.step_accepted.push(accepted);
         }
-        du
     }
 
     /// The next load increment after one that took `iterations` Newton iterations (`n` the
