@@ -160,9 +160,11 @@ pub fn write_run(
 }
 
 /// Writes `dir/newton_trace.csv` and `dir/newton_trace.png` (`dir` exists): the run's Newton
-/// iterations as recorded in `stats` ([`crate::report::newton_trace`]); returns their paths.
+/// iterations as recorded in `stats` ([`crate::report::newton_trace`]); records them in
+/// `summary.files` (`newton_trace`, `newton_trace_chart`) and returns their paths.
 pub fn write_newton_trace(
     dir: &Path,
+    summary: &mut RunSummary,
     stats: &SolveStats,
     stroke_mm: f64,
     title: &str,
@@ -172,6 +174,12 @@ pub fn write_newton_trace(
         .map_err(io(&csv, "write"))?;
     let png = dir.join(NEWTON_TRACE_FILES[1]);
     newton_trace::chart(stats, title).write_png(&png)?;
+    for (kind, path) in ["newton_trace", "newton_trace_chart"]
+        .iter()
+        .zip([&csv, &png])
+    {
+        (summary.files).insert(kind.to_string(), path.display().to_string());
+    }
     Ok([csv, png])
 }
 

@@ -55,10 +55,7 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
             "Newton iterations of {name}: {} in {} load steps",
             stats.newton_iterations, stats.steps
         );
-        let written = write_newton_trace(&dir, stats, stroke, &title)?;
-        for (kind, path) in ["newton_trace", "newton_trace_chart"].iter().zip(&written) {
-            (drawn.summary.files).insert(kind.to_string(), path.display().to_string());
-        }
+        write_newton_trace(&dir, &mut drawn.summary, stats, stroke, &title)?;
     }
     // After the trace, so that summary.json names its files too.
     let tooling = &drawn.problem.tooling;
