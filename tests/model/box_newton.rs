@@ -31,6 +31,7 @@ fn run(exact_jacobian: bool) -> SolveStats {
     // the round-off floor, about 2·10⁻⁹ N.
     problem.solver.tol_force = 1e-11;
     problem.solver.tol_floor = 1e-14;
+    problem.solver.tol_work = 0.0;
     let r = drawing::solve(&problem, &mut |_| {});
     assert!(r.converged, "{:?}", r.failure);
     r.stats

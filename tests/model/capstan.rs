@@ -172,6 +172,7 @@ fn capstan(mu: f64, t_in: f64, exact_jacobian: bool) -> Capstan {
         record_residuals: true,
         tol_force: 1e-12,
         tol_floor: 1e-9,
+        tol_work: 0.0,
         exact_jacobian,
         ..SolverOptions::default()
     };

@@ -32,6 +32,7 @@ mod mesh_exactness;
 mod shear_law;
 mod solver_checks;
 mod stability;
+mod step_balance;
 mod stl_files;
 mod tools_checks;
 mod wrinkles;

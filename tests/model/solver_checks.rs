@@ -217,6 +217,7 @@ fn newton_converges_quadratically_on_a_stretched_and_rotated_sheet() {
         SolverOptions {
             record_residuals: true,
             tol_force: 1e-11,
+            tol_work: 0.0,
             ..Default::default()
         },
     );

@@ -60,6 +60,13 @@ pub struct SolverOptions {
     pub tol_force: f64,
     /// The floor of the force tolerance, as a yarn strain (times the yarn stiffness C).
     pub tol_floor: f64,
+    /// A step of a model without bending also ends when its residual is within
+    /// [`WORK_FORCE_SPAN`] force tolerances and the residual's work over the step's increment is
+    /// at most this share of the fabric's stored energy gained in the step. 0 (the default):
+    /// off; the drawings set [`crate::core::drawing::TOL_WORK`]. Not for a reaction read off a
+    /// nearly free mechanism: the bias-extension's clamp force at the first millimetres moved
+    /// 4 % with it, where a soft trellis turns a small residual into a large displacement.
+    pub tol_work: f64,
     /// Pseudo-transient stabilisation `κ` of the Newton corrections (dimensionless; 0 turns it
     /// off).
     pub stabilisation: f64,
@@ -94,6 +101,7 @@ impl Default for SolverOptions {
             max_iterations: 40,
             tol_force: 1e-6,
             tol_floor: 1e-7,
+            tol_work: 0.0,
             stabilisation: 1e-4,
             exact_jacobian: true,
             max_lag_passes: 20,
@@ -177,6 +185,9 @@ pub struct Solver<'a> {
     /// The force tolerance's multiple in force (1, or [`RELAXED_TOLERANCE`] on a step's last
     /// attempt).
     relax: f64,
+    /// The displacements at the current step's start and the fabric's stored energy there
+    /// (N·mm): the origin of the work criterion ([`SolverOptions::tol_work`]).
+    step_origin: (Vec<f64>, f64),
     /// Newton may take [`DESCENT_ITERATIONS`] on this attempt: a model with bending passing a
     /// buckle (see `stepping.rs`).
     descent: bool,
@@ -195,6 +206,10 @@ pub const DESCENT_ITERATIONS: u32 = 400;
 /// punch force. Each such step is counted (`SolveStats::relaxed_steps`) and its unbalanced
 /// work joins the rest, which the soundness check bounds.
 pub const RELAXED_TOLERANCE: f64 = 10.0;
+
+/// The multiple of the force tolerance within which the work criterion may end a step
+/// ([`SolverOptions::tol_work`]): 100, a residual of 10⁻⁴ of the load.
+pub const WORK_FORCE_SPAN: f64 = 100.0;
 
 impl<'a> Solver<'a> {
     /// Newton's iteration cap on the current attempt.
@@ -221,6 +236,7 @@ impl<'a> Solver<'a> {
             start_damping: 0.0,
             start_damping_set: false,
             relax: 1.0,
+            step_origin: (Vec::new(), 0.0),
             descent: false,
         }
     }

@@ -153,7 +153,8 @@ impl Solver<'_> {
             // still moves nodes by micrometres, and waiting for that to stop cost a fine mesh
             // a fifth of its iterations without moving any figure.
             let tolerance = self.residual_tolerance(&a);
-            if rn <= tolerance && (it > 0 || from_converged) {
+            let balanced = rn <= tolerance || self.work_balanced(&a, rn, tolerance);
+            if balanced && (it > 0 || from_converged) {
                 history.converged_residual = a.r;
                 return Ok(it);
             }
@@ -228,6 +229,26 @@ impl Solver<'_> {
     fn residual_tolerance(&self, a: &Assembly) -> f64 {
         let c = 0.5 * (self.model.law.p.c[0] + self.model.law.p.c[1]);
         self.relax * (self.options.tol_force * a.scale + self.options.tol_floor * c)
+    }
+
+    /// Whether the residual `rn` (N) of assembly `a`, within [`super::WORK_FORCE_SPAN`] force
+    /// tolerances, did at most [`super::SolverOptions::tol_work`] of the stored energy the fabric
+    /// gained in the step as work over the step's increment: the share of the run's work that
+    /// the soundness check bounds, taken step by step. Models with bending never: a buckled
+    /// path is picked by how far each step is balanced.
+    fn work_balanced(&self, a: &Assembly, rn: f64, tolerance: f64) -> bool {
+        let share = self.options.tol_work;
+        if share <= 0.0 || self.bends() || rn > super::WORK_FORCE_SPAN * tolerance {
+            return false;
+        }
+        let (u_start, stored_start) = (&self.step_origin.0, self.step_origin.1);
+        let m = &*self.model;
+        let work: f64 = (m.eq.iter().enumerate())
+            .filter(|(_, q)| **q != usize::MAX)
+            .map(|(d, &q)| a.r[q] * (m.u[d] - u_start[d]))
+            .sum();
+        let gained = m.stored_energy() - stored_start;
+        work.abs() <= share * gained
     }
 
     /// The Newton correction from the assembled tangent, damped by the pseudo-transient

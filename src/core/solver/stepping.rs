@@ -161,7 +161,7 @@ impl Solver<'_> {
 
     /// Whether the model has bending (hinges): a fabric that can buckle, whose steps pass
     /// buckles and whose path picks among buckled states.
-    fn bends(&self) -> bool {
+    pub(super) fn bends(&self) -> bool {
         !self.model.hinges.is_empty()
     }
 
@@ -197,6 +197,7 @@ impl Solver<'_> {
             self.levenberg = self.levenberg.max(self.start_damping);
         }
         self.start_damping_set = false;
+        self.step_origin.0.clone_from(&attempt.u_start);
         let mut iterations = self.newton(target, terms, false, history)?;
         for _ in 0..self.options.max_lag_passes {
             if !terms.relag(target, &self.model.positions()) {
@@ -230,6 +231,7 @@ impl Solver<'_> {
                 .map(|(d, &q)| history.converged_residual.get(q).copied().unwrap_or(0.0) * du[d])
                 .sum();
         self.stats.unbalanced_work += w.abs();
+        self.step_origin.1 = m.stored_energy();
         self.stats.steps += 1;
         self.stats.lambda = attempt.target;
         self.stats.law_iterations = self.ws.law_iterations;
