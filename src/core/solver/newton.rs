@@ -241,13 +241,8 @@ impl Solver<'_> {
         if share <= 0.0 || self.bends() || rn > super::WORK_FORCE_SPAN * tolerance {
             return false;
         }
-        let (u_start, stored_start) = (&self.step_origin.0, self.step_origin.1);
-        let m = &*self.model;
-        let work: f64 = (m.eq.iter().enumerate())
-            .filter(|(_, q)| **q != usize::MAX)
-            .map(|(d, &q)| a.r[q] * (m.u[d] - u_start[d]))
-            .sum();
-        let gained = m.stored_energy() - stored_start;
+        let work = self.residual_work(&a.r, &self.step_origin.0);
+        let gained = self.model.stored_energy() - self.step_origin.1;
         work.abs() <= share * gained
     }
 

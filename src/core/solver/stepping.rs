@@ -222,21 +222,25 @@ impl Solver<'_> {
             .zip(&attempt.u_start)
             .map(|(a, b)| a - b)
             .collect();
-        // The work of the residual left at convergence over the step's increment (free dofs).
-        let m = &*self.model;
-        let w: f64 =
-            m.eq.iter()
-                .enumerate()
-                .filter(|(_, q)| **q != usize::MAX)
-                .map(|(d, &q)| history.converged_residual.get(q).copied().unwrap_or(0.0) * du[d])
-                .sum();
+        // The work of the residual left at convergence over the step's increment.
+        let w = self.residual_work(&history.converged_residual, &attempt.u_start);
         self.stats.unbalanced_work += w.abs();
-        self.step_origin.1 = m.stored_energy();
+        self.step_origin.1 = self.model.stored_energy();
         self.stats.steps += 1;
         self.stats.lambda = attempt.target;
         self.stats.law_iterations = self.ws.law_iterations;
         self.record(attempt, history, true);
         du
+    }
+
+    /// The work of the residual `r` (over the free dofs, N; missing entries 0) over the
+    /// increment from `u_start` to the current displacements, N·mm.
+    pub(super) fn residual_work(&self, r: &[f64], u_start: &[f64]) -> f64 {
+        let m = &*self.model;
+        (m.eq.iter().enumerate())
+            .filter(|(_, q)| **q != usize::MAX)
+            .map(|(d, &q)| r.get(q).copied().unwrap_or(0.0) * (m.u[d] - u_start[d]))
+            .sum()
     }
 
     /// Keeps an attempt's iterations when they are recorded (`record_residuals`).
