@@ -186,7 +186,9 @@ pub struct Solver<'a> {
     /// attempt).
     relax: f64,
     /// The displacements at the current step's start and the fabric's stored energy there
-    /// (N·mm): the origin of the work criterion ([`SolverOptions::tol_work`]).
+    /// (N·mm): the origin of the work criterion ([`SolverOptions::tol_work`]). The energy is
+    /// taken when a step is accepted (the last evaluation is then the converged state; after a
+    /// failed attempt it is not), and is 0 before the first: a blank starts unstrained.
     step_origin: (Vec<f64>, f64),
     /// Newton may take [`DESCENT_ITERATIONS`] on this attempt: a model with bending passing a
     /// buckle (see `stepping.rs`).
