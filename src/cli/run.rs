@@ -45,8 +45,10 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
     let bar = stroke_bar(stroke);
     let name = outputs::stem(file, "scene");
     let solve = if args.newton_trace { draw_traced } else { draw };
-    let mut drawn = solve(&name, &scene, &mut |f| {
-        super::progress::show_stroke(&bar, f, stroke)
+    let mut drawn = wovenform::machine::on_pool(|| {
+        solve(&name, &scene, &mut |f| {
+            super::progress::show_stroke(&bar, f, stroke)
+        })
     });
     bar.finish_and_clear();
     if args.newton_trace {

@@ -237,11 +237,15 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
     let scaling = o.scaling.map(|deadline_s| {
         note("the open box at fine on one thread, assembling on all, and factorizing on all too");
         let one = crate::study::scaling::timed_drawing(&paper_box(1.25), deadline_s);
+        // As `wovenform run` solves one design: on a worker of rayon's pool.
         let mut p = paper_box(1.25);
         p.solver.parallel = true;
-        let assembly = crate::study::scaling::timed_drawing(&p, deadline_s);
+        let on_pool = |p: &crate::core::drawing::DrawingProblem| {
+            crate::machine::on_pool(|| crate::study::scaling::timed_drawing(p, deadline_s))
+        };
+        let assembly = on_pool(&p);
         p.solver.factor_threads = 0;
-        let all = crate::study::scaling::timed_drawing(&p, deadline_s);
+        let all = on_pool(&p);
         note("designs of the grid at standard and fine");
         let designs = crate::study::scaling::fine_over_standard(deadline_s, &|name| {
             note(&format!("  {name}"))

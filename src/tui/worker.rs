@@ -176,7 +176,8 @@ pub fn start_design_files(
     thread::Builder::new()
         .name("explorer-design-files".into())
         .spawn(move || {
-            let mut drawn = crate::study::draw::draw(&design, &scene, &mut |_| {});
+            let mut drawn =
+                crate::machine::on_pool(|| crate::study::draw::draw(&design, &scene, &mut |_| {}));
             let tooling = &drawn.problem.tooling;
             let written =
                 crate::publish::write_run(&dir, &mut drawn.summary, &drawn.result, tooling)

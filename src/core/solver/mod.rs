@@ -79,7 +79,10 @@ pub struct SolverOptions {
     pub project_predictor: bool,
     /// Put the nodes a correction throws into a tool they did not touch onto its surface.
     pub project_trials: bool,
-    /// Assemble elements on rayon's pool (set false inside a parallel sweep if wanted).
+    /// Assemble elements on rayon's pool (set false inside a parallel sweep if wanted). Best
+    /// asked for from a worker of the pool (`machine::on_pool`, as `wovenform run` solves): from
+    /// outside it, each assembly waits for the pool to wake, which cost the open box at fine
+    /// 10 % on a 2-core machine.
     pub parallel: bool,
     /// Threads of rayon's pool the sparse factorization and its solves may use (1: one; 0: all).
     /// One by default: on the 2-core machines measured, faer's parallel supernodal Cholesky
