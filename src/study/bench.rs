@@ -240,12 +240,12 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
         // As `wovenform run` solves one design: on a worker of rayon's pool.
         let mut p = paper_box(1.25);
         p.solver.parallel = true;
-        let on_pool = |p: &crate::core::drawing::DrawingProblem| {
+        let pooled = |p: &crate::core::drawing::DrawingProblem| {
             crate::machine::on_pool(|| crate::study::scaling::timed_drawing(p, deadline_s))
         };
-        let assembly = on_pool(&p);
+        let assembly = pooled(&p);
         p.solver.factor_threads = 0;
-        let all = on_pool(&p);
+        let all = pooled(&p);
         note("designs of the grid at standard and fine");
         let designs = crate::study::scaling::fine_over_standard(deadline_s, &|name| {
             note(&format!("  {name}"))
