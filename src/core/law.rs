@@ -81,6 +81,10 @@ impl CellResponse {
     }
 }
 
+/// A yarn strain within this of zero is an unstrained yarn (the blank's initial state, to the
+/// round-off of a length computed from positions): its tangent is the taut slope `C`.
+const UNSTRAINED: f64 = 1e-12;
+
 /// A ready-to-evaluate law: the parameters and the constants derived from them.
 #[derive(Clone, Copy, Debug)]
 pub struct CellLaw {
@@ -501,7 +505,16 @@ impl CellLaw {
             } else if self.toe > 0.0 {
                 let (phi, dphi) = crate::core::toe::phi(eps[a], self.toe);
                 r.t[a] = self.p.c[a] * phi;
-                r.dt[a][a] = self.p.c[a] * dphi;
+                // The same for an unstrained yarn on the toe, whose own slope there is zero:
+                // the taut one. Only the tangent changes, so only where Newton goes, not where
+                // it ends (the grid's 81 designs: 15,525 → 15,232 iterations at standard, their
+                // figures unchanged, 2026-12-06).
+                let slope = if eps[a].abs() <= UNSTRAINED {
+                    1.0
+                } else {
+                    dphi
+                };
+                r.dt[a][a] = self.p.c[a] * slope;
             } else if eps[a] >= 0.0 {
                 r.t[a] = self.p.c[a] * eps[a];
                 r.dt[a][a] = self.p.c[a];
@@ -564,5 +577,26 @@ mod tests {
         let r = law.evaluate([0.0, 0.0], law.initial_state());
         assert_eq!(r.t, [0.0, 0.0]);
         assert_eq!(r.crimp.s, 0.0);
+    }
+
+    #[test]
+    fn an_unstrained_yarn_on_the_toe_is_given_the_taut_slope_and_no_tension() {
+        let p = CellParams {
+            undulation: false,
+            ..CellParams::PAPER_GLASS
+        };
+        let w = 1e-3;
+        let law = CellLaw::new(p).with_toe(w);
+        let c = p.c[0];
+        let at = |e: f64| law.evaluate([e, e], law.initial_state());
+        let r = at(0.0);
+        assert_eq!(r.t, [0.0, 0.0]);
+        assert_eq!(r.dt[0][0], c);
+        // Off zero the toe's own slope, `C ε/w`, and its tension `C ε²/2w`: a closed form.
+        let e = 1e-4;
+        let r = at(e);
+        assert!((r.dt[0][0] - c * e / w).abs() < 1e-9 * c);
+        assert!((r.t[0] - c * e * e / (2.0 * w)).abs() < 1e-9 * c * e);
+        assert_eq!(at(-e).dt[0][0], 0.0);
     }
 }
