@@ -154,7 +154,7 @@ impl Measured {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "one thread unless stated; medians of {} repetitions (the drawings: of {})",
+            "one thread unless stated; medians of {} repetitions (the drawings, the dof ladder and what a finer answer costs: of {}, interleaved)",
             self.reps, self.box_reps
         );
         for r in &self.rates {

@@ -221,7 +221,7 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
     let [open, tight, open_low_friction] = <[BoxRun; 3]>::try_from(runs).expect("three cases");
     let names = cases().map(|(n, _)| n);
     note("wall time against dofs (5, 3.5, 2.5, 1.75 mm)");
-    let (ladder, exponent) = dof_scaling(&[5.0, 3.5, 2.5, 1.75]);
+    let (ladder, exponent) = dof_scaling(&[5.0, 3.5, 2.5, 1.75], box_reps);
     note("sweep throughput with 1 and 2 jobs");
     let sweep_per_min = [sweep_throughput(1)?, sweep_throughput(2)?];
     let mut friction = Vec::new();
@@ -247,14 +247,14 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
         p.solver.factor_threads = 0;
         let all = pooled(&p);
         note("designs of the grid at standard and fine");
-        let designs = crate::study::scaling::fine_over_standard(deadline_s, &|name| {
+        let designs = crate::study::scaling::fine_over_standard(deadline_s, box_reps, &|name| {
             note(&format!("  {name}"))
         });
         note("the bias-extension test, 300 × 150 mm to 55 mm and 450 × 150 mm to 105 mm");
         Scaling {
             deadline_s,
             designs,
-            bias: crate::study::scaling::bias_pair(deadline_s),
+            bias: crate::study::scaling::bias_pair(deadline_s, box_reps),
             open_fine: [one, assembly, all],
             threads: rayon::current_num_threads(),
         }
@@ -444,16 +444,24 @@ pub fn friction_resolution(repetitions: usize) -> Vec<(String, Result<BoxRun, St
         .collect()
 }
 
-/// Wall time against dofs over a mesh ladder of the open box (one run each, one thread), and
-/// the least-squares exponent of `wall ∝ dofs^k`.
-pub fn dof_scaling(sizes_mm: &[f64]) -> (Vec<(usize, f64)>, f64) {
-    let points: Vec<(usize, f64)> = sizes_mm
-        .iter()
-        .map(|&h| {
+/// Wall time against dofs over a mesh ladder of the open box (one thread; each rung's time the
+/// median of `repetitions` runs, the rungs taken in turn round after round so that a change of
+/// the machine's load falls on all of them alike), and the least-squares exponent of
+/// `wall ∝ dofs^k`.
+pub fn dof_scaling(sizes_mm: &[f64], repetitions: usize) -> (Vec<(usize, f64)>, f64) {
+    let mut times = vec![Vec::new(); sizes_mm.len()];
+    let mut dofs = vec![0; sizes_mm.len()];
+    for _ in 0..repetitions.max(1) {
+        for (i, &h) in sizes_mm.iter().enumerate() {
             let t = Instant::now();
             let r = crate::core::drawing::solve(&paper_box(h), &mut |_| {});
-            (r.dofs, t.elapsed().as_secs_f64())
-        })
+            times[i].push(t.elapsed().as_secs_f64());
+            dofs[i] = r.dofs;
+        }
+    }
+    let points: Vec<(usize, f64)> = dofs
+        .into_iter()
+        .zip(times.into_iter().map(median))
         .collect();
     let xy: Vec<(f64, f64)> = points
         .iter()

@@ -2,6 +2,9 @@
 //! the wall time of designs of the paper's grid at `fine` over `standard`, and of the long
 //! bias-extension specimen over the short one. Each run on one thread, each stopped at a
 //! deadline so that a run that does not finish gives a lower bound, never a hung benchmark.
+//! Each wall time is the median of the repetitions asked for, the runs of a ratio interleaved
+//! (standard, fine, standard, fine, …) so that a change of the machine's load between them
+//! falls on both sides of the ratio alike.
 
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -95,9 +98,41 @@ pub fn timed_drawing(p: &crate::core::drawing::DrawingProblem, deadline_s: f64) 
     }
 }
 
+/// The run of median wall time among `runs` (the solver is deterministic: their counters
+/// agree), its `wall_s` that median.
+fn median_run(mut runs: Vec<Timed>) -> Timed {
+    runs.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+    let wall_s = super::timing::median(runs.iter().map(|r| r.wall_s).collect());
+    let mut mid = runs.swap_remove(runs.len() / 2);
+    mid.wall_s = wall_s;
+    mid
+}
+
+/// `repetitions` interleaved rounds of `runs` (each a closure timing one run), the median of
+/// each; a run that did not finish is not repeated (its first time is a lower bound already).
+pub fn interleaved<const N: usize>(
+    repetitions: usize,
+    runs: [&dyn Fn() -> Timed; N],
+) -> [Timed; N] {
+    let mut all: [Vec<Timed>; N] = std::array::from_fn(|_| Vec::new());
+    for round in 0..repetitions.max(1) {
+        for (run, times) in runs.iter().zip(all.iter_mut()) {
+            if round == 0 || times[0].finished {
+                times.push(run());
+            }
+        }
+    }
+    all.map(median_run)
+}
+
 /// Each of [`DESIGNS`] at standard and at fine (one thread; the fine run stopped after
-/// `deadline_s`); `note` hears each design start.
-pub fn fine_over_standard(deadline_s: f64, note: &dyn Fn(&str)) -> Vec<FineOverStandard> {
+/// `deadline_s`), each the median of `repetitions` interleaved runs; `note` hears each design
+/// start.
+pub fn fine_over_standard(
+    deadline_s: f64,
+    repetitions: usize,
+    note: &dyn Fn(&str),
+) -> Vec<FineOverStandard> {
     DESIGNS
         .iter()
         .map(|&(name, overrides)| {
@@ -107,10 +142,14 @@ pub fn fine_over_standard(deadline_s: f64, note: &dyn Fn(&str)) -> Vec<FineOverS
                 p.element_size = level.element_size_mm();
                 timed_drawing(&p, deadline_s)
             };
+            let [standard, fine] = interleaved(
+                repetitions,
+                [&|| at(Accuracy::Standard), &|| at(Accuracy::Fine)],
+            );
             FineOverStandard {
                 name,
-                standard: at(Accuracy::Standard),
-                fine: at(Accuracy::Fine),
+                standard,
+                fine,
             }
         })
         .collect()
@@ -121,30 +160,90 @@ pub const BIAS_SPECIMENS: [[f64; 3]; 2] = [[300.0, 150.0, 55.0], [450.0, 150.0, 
 
 /// The bias-extension test of `presets/box-with-shear.toml`'s fabric (the glass fabric's fitted
 /// shear law) on the short and the long specimen of [`BIAS_SPECIMENS`], 5 mm elements, 40
-/// points, one thread, each stopped after `deadline_s`.
-pub fn bias_pair(deadline_s: f64) -> Result<[Timed; 2], String> {
+/// points, one thread, each stopped after `deadline_s`, each the median of `repetitions`
+/// interleaved runs.
+pub fn bias_pair(deadline_s: f64, repetitions: usize) -> Result<[Timed; 2], String> {
     let scene = crate::scene::Scene::from_toml_str(
         crate::presets::BOX_WITH_SHEAR,
         "presets/box-with-shear.toml",
         &[],
     )
     .map_err(|e| e.to_string())?;
-    let run = |size: [f64; 3]| -> Result<Timed, String> {
-        let mut problem = crate::scene::specimen::bias_problem(&scene, size, 5.0, 40)
+    let problem = |size: [f64; 3]| {
+        let mut p = crate::scene::specimen::bias_problem(&scene, size, 5.0, 40)
             .map_err(|e| e.to_string())?;
-        problem.solver.parallel = false;
-        let start = Instant::now();
-        let r = problem
-            .solve_until(&mut |_| until(start, deadline_s))
-            .map_err(|e| e.to_string())?;
-        Ok(Timed {
-            wall_s: start.elapsed().as_secs_f64(),
-            dofs: 2 * r.mesh.nodes.len(),
-            steps: r.displacement_mm.len().saturating_sub(1) as u32,
-            newton_iterations: r.newton_iterations,
-            finished: r.failure.is_none(),
-            failure: r.failure.map(|f| f.to_string()),
-        })
+        p.solver.parallel = false;
+        Ok::<_, String>(p)
     };
-    Ok([run(BIAS_SPECIMENS[0])?, run(BIAS_SPECIMENS[1])?])
+    let [short, long] = [problem(BIAS_SPECIMENS[0])?, problem(BIAS_SPECIMENS[1])?];
+    let run = |problem: &crate::core::bias::BiasProblem| {
+        let start = Instant::now();
+        let r = problem.solve_until(&mut |_| until(start, deadline_s));
+        let wall_s = start.elapsed().as_secs_f64();
+        match r {
+            Ok(r) => Timed {
+                wall_s,
+                dofs: 2 * r.mesh.nodes.len(),
+                steps: r.displacement_mm.len().saturating_sub(1) as u32,
+                newton_iterations: r.newton_iterations,
+                finished: r.failure.is_none(),
+                failure: r.failure.map(|f| f.to_string()),
+            },
+            Err(e) => Timed {
+                wall_s,
+                dofs: 0,
+                steps: 0,
+                newton_iterations: 0,
+                finished: false,
+                failure: Some(e.to_string()),
+            },
+        }
+    };
+    Ok(interleaved(repetitions, [&|| run(&short), &|| run(&long)]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::RefCell;
+
+    fn timed(wall_s: f64, finished: bool) -> Timed {
+        Timed {
+            wall_s,
+            dofs: 10,
+            steps: 20,
+            newton_iterations: 100,
+            finished,
+            failure: None,
+        }
+    }
+
+    #[test]
+    fn interleaved_runs_take_turns_give_the_median_and_do_not_repeat_an_unfinished_run() {
+        let calls = RefCell::new(Vec::new());
+        let walls = RefCell::new(vec![3.0, 9.0, 1.0, 2.0, 7.0].into_iter());
+        let a = || {
+            calls.borrow_mut().push('a');
+            timed(walls.borrow_mut().next().unwrap(), true)
+        };
+        let b = || {
+            calls.borrow_mut().push('b');
+            timed(50.0, false)
+        };
+        let c = || {
+            calls.borrow_mut().push('c');
+            timed(4.0, true)
+        };
+        let [a, b, c] = interleaved(3, [&a, &b, &c]);
+        // Round after round, the unfinished run once only.
+        assert_eq!(calls.borrow().iter().collect::<String>(), "abcacac");
+        // a ran 3.0, 9.0, 1.0 (the walls were taken in turn with nothing else): median 3.0.
+        assert_eq!(a.wall_s, 3.0);
+        assert_eq!((b.wall_s, b.finished), (50.0, false));
+        assert_eq!(c.wall_s, 4.0);
+        // An even count gives the mean of the middle two.
+        let walls = RefCell::new(vec![1.0, 5.0].into_iter());
+        let d = || timed(walls.borrow_mut().next().unwrap(), true);
+        assert_eq!(interleaved(2, [&d])[0].wall_s, 3.0);
+    }
 }

@@ -67,6 +67,15 @@ pub struct SolverOptions {
     /// nearly free mechanism: the bias-extension's clamp force at the first millimetres moved
     /// 4 % with it, where a soft trellis turns a small residual into a large displacement.
     pub tol_work: f64,
+    /// A step of a model without bending also ends with a correction that would release at most
+    /// this share of the fabric's stored energy gained in the step (Newton's decrement `|r·Δu|`,
+    /// the energy still between the state and its balance), taken as searched, when the
+    /// residual is within [`DECREMENT_FORCE_SPAN`] force tolerances and the state it reaches
+    /// leaves at most [`DECREMENT_WORK_SHARE`] of that energy as the residual's work over the
+    /// step. 0 (the default): off; the drawings set [`crate::core::drawing::TOL_DECREMENT`]. It
+    /// ends the tails where Newton halves a lifting node's depth in the contact's eased gap,
+    /// micrometres from its balance (`guide::cost_newton`, "Session eleven").
+    pub tol_decrement: f64,
     /// Pseudo-transient stabilisation `κ` of the Newton corrections (dimensionless; 0 turns it
     /// off).
     pub stabilisation: f64,
@@ -105,6 +114,7 @@ impl Default for SolverOptions {
             tol_force: 1e-6,
             tol_floor: 1e-7,
             tol_work: 0.0,
+            tol_decrement: 0.0,
             stabilisation: 1e-4,
             exact_jacobian: true,
             max_lag_passes: 20,
@@ -215,6 +225,17 @@ pub const RELAXED_TOLERANCE: f64 = 10.0;
 /// The multiple of the force tolerance within which the work criterion may end a step
 /// ([`SolverOptions::tol_work`]): 100, a residual of 10⁻⁴ of the load.
 pub const WORK_FORCE_SPAN: f64 = 100.0;
+
+/// The multiple of the force tolerance within which a small Newton decrement may end a step
+/// ([`SolverOptions::tol_decrement`]): 1,000, a residual of 10⁻³ of the load, so that the forces
+/// left out of balance at a step's end stay a small fraction of the punch force's band.
+pub const DECREMENT_FORCE_SPAN: f64 = 1000.0;
+
+/// The largest work the forces left out of balance by a step ended on a small decrement may do
+/// over the step's increment, as a share of the stored energy the fabric gained in the step:
+/// 0.01, the drawings' soundness limit on a whole run
+/// ([`crate::core::drawing::UNBALANCED_WORK_LIMIT`]), so that these steps cannot trip it.
+pub const DECREMENT_WORK_SHARE: f64 = 0.01;
 
 impl<'a> Solver<'a> {
     /// Newton's iteration cap on the current attempt.

@@ -91,6 +91,13 @@ struct Progress {
 const STALL_RUN: usize = 4;
 
 impl Progress {
+    /// Records a correction searched to length `alpha` (of the correction as searched, halved
+    /// or not).
+    fn searched(&mut self, alpha: f64) {
+        self.last_full = alpha >= 0.999;
+        self.full_run = if self.last_full { self.full_run + 1 } else { 0 };
+    }
+
     /// Newton caught in a cycle: [`STALL_RUN`] full corrections in a row that did not halve the
     /// residual (`residuals`, this one last). Seen on fine meshes at the box's corner, where
     /// yarns cross the toe's end and back at every correction and the residual alternates
@@ -162,6 +169,7 @@ impl Solver<'_> {
                 break;
             }
             let mut c = self.correction(&a, rn, &mut progress)?;
+            let last = self.decrement_small(&c, rn, tolerance);
             let scale = progress.cycle_breaker(&history.residuals, &mut c);
             let x = self.model.positions();
             terms.freeze(lambda, &x);
@@ -180,23 +188,77 @@ impl Solver<'_> {
             }
             let (alpha, next) = searched?;
             carried = next;
+            if last {
+                match self.end_on_decrement(lambda, &*terms, carried.take(), history) {
+                    None => return Ok(it + 1),
+                    left => carried = left,
+                }
+            }
             self.adapt_damping(alpha);
             if !self.start_damping_set && alpha >= 0.1 {
                 self.start_damping_set = true;
                 self.start_damping = self.levenberg;
             }
-            // Of the correction as searched (halved or not).
-            progress.last_full = alpha >= 0.999;
-            progress.full_run = if progress.last_full {
-                progress.full_run + 1
-            } else {
-                0
-            };
+            progress.searched(alpha);
         }
         Err(NewtonError::NoConvergence {
             iterations: cap,
             residual_n: history.residuals.last().copied().unwrap_or(f64::NAN),
         })
+    }
+
+    /// Whether correction `c` (at residual `rn`, N) is a step's last: a model without bending,
+    /// `rn` within [`super::DECREMENT_FORCE_SPAN`] force tolerances, and Newton's decrement
+    /// `|r·Δu|` at most [`super::SolverOptions::tol_decrement`] of the stored energy the fabric
+    /// gained in the step. The decrement is the energy the correction would release: what is
+    /// left between the state and its balance (to second order). It is small where the force
+    /// residual is not, at a node lifting off a tool whose depth Newton halves each iteration
+    /// in the contact's eased gap (a force of `k y²/2δ` micrometres from its balance).
+    fn decrement_small(&self, c: &Correction, rn: f64, tolerance: f64) -> bool {
+        let share = self.options.tol_decrement;
+        if share <= 0.0 || self.bends() || rn > super::DECREMENT_FORCE_SPAN * tolerance {
+            return false;
+        }
+        let gained = self.model.stored_energy() - self.step_origin.1;
+        c.slope.abs() <= share * gained
+    }
+
+    /// After a step's last correction (by [`Solver::decrement_small`]): ends the step (`None`)
+    /// when the state it reached is [`Solver::fairly_balanced`], else returns that state's
+    /// assembly (`carried`, or assembled here) for the next iteration.
+    fn end_on_decrement(
+        &mut self,
+        lambda: f64,
+        terms: &dyn NodalTerms,
+        carried: Option<Assembly>,
+        history: &mut History,
+    ) -> Option<Assembly> {
+        let a = carried.unwrap_or_else(|| self.ws.assemble(self.model, lambda, terms, true));
+        if self.fairly_balanced(&a) {
+            self.finish(a, history);
+            return None;
+        }
+        Some(a)
+    }
+
+    /// Whether the forces out of balance at assembly `a` (the state a step's last correction
+    /// reached) did at most [`super::DECREMENT_WORK_SHARE`] of the stored energy the fabric
+    /// gained in the step as work over the step's increment: the drawings' soundness limit on
+    /// the whole run, asked of each step, so that no run ended this way can exceed it.
+    fn fairly_balanced(&self, a: &Assembly) -> bool {
+        let work = self.residual_work(&a.r, &self.step_origin.0);
+        let gained = self.model.stored_energy() - self.step_origin.1;
+        work.abs() <= super::DECREMENT_WORK_SHARE * gained
+    }
+
+    /// Ends a step at the state its last correction reached, assembly `a`: its residual
+    /// recorded as the converged one.
+    fn finish(&mut self, a: Assembly, history: &mut History) {
+        history.residuals.push(norm2(&a.r));
+        if self.options.record_residuals {
+            self.record_state(history, &a.r);
+        }
+        history.converged_residual = a.r;
     }
 
     /// Records an iteration's state: the active set's changes since the last one, and where the
