@@ -110,19 +110,20 @@ fn median_run(mut runs: Vec<Timed>) -> Timed {
 
 /// `repetitions` interleaved rounds of `runs` (each a closure timing one run), the median of
 /// each; a run that did not finish is not repeated (its first time is a lower bound already).
-pub fn interleaved<const N: usize>(
+/// The first error a run returns is returned.
+pub fn interleaved<const N: usize, E>(
     repetitions: usize,
-    runs: [&dyn Fn() -> Timed; N],
-) -> [Timed; N] {
+    runs: [&dyn Fn() -> Result<Timed, E>; N],
+) -> Result<[Timed; N], E> {
     let mut all: [Vec<Timed>; N] = std::array::from_fn(|_| Vec::new());
     for round in 0..repetitions.max(1) {
         for (run, times) in runs.iter().zip(all.iter_mut()) {
             if round == 0 || times[0].finished {
-                times.push(run());
+                times.push(run()?);
             }
         }
     }
-    all.map(median_run)
+    Ok(all.map(median_run))
 }
 
 /// Each of [`DESIGNS`] at standard and at fine (one thread; the fine run stopped after
@@ -142,10 +143,12 @@ pub fn fine_over_standard(
                 p.element_size = level.element_size_mm();
                 timed_drawing(&p, deadline_s)
             };
+            let at = |level: Accuracy| Ok::<_, std::convert::Infallible>(at(level));
             let [standard, fine] = interleaved(
                 repetitions,
                 [&|| at(Accuracy::Standard), &|| at(Accuracy::Fine)],
-            );
+            )
+            .unwrap_or_else(|never| match never {});
             FineOverStandard {
                 name,
                 standard,
@@ -178,28 +181,19 @@ pub fn bias_pair(deadline_s: f64, repetitions: usize) -> Result<[Timed; 2], Stri
     let [short, long] = [problem(BIAS_SPECIMENS[0])?, problem(BIAS_SPECIMENS[1])?];
     let run = |problem: &crate::core::bias::BiasProblem| {
         let start = Instant::now();
-        let r = problem.solve_until(&mut |_| until(start, deadline_s));
-        let wall_s = start.elapsed().as_secs_f64();
-        match r {
-            Ok(r) => Timed {
-                wall_s,
-                dofs: 2 * r.mesh.nodes.len(),
-                steps: r.displacement_mm.len().saturating_sub(1) as u32,
-                newton_iterations: r.newton_iterations,
-                finished: r.failure.is_none(),
-                failure: r.failure.map(|f| f.to_string()),
-            },
-            Err(e) => Timed {
-                wall_s,
-                dofs: 0,
-                steps: 0,
-                newton_iterations: 0,
-                finished: false,
-                failure: Some(e.to_string()),
-            },
-        }
+        let r = problem
+            .solve_until(&mut |_| until(start, deadline_s))
+            .map_err(|e| e.to_string())?;
+        Ok(Timed {
+            wall_s: start.elapsed().as_secs_f64(),
+            dofs: 2 * r.mesh.nodes.len(),
+            steps: r.displacement_mm.len().saturating_sub(1) as u32,
+            newton_iterations: r.newton_iterations,
+            finished: r.failure.is_none(),
+            failure: r.failure.map(|f| f.to_string()),
+        })
     };
-    Ok(interleaved(repetitions, [&|| run(&short), &|| run(&long)]))
+    interleaved(repetitions, [&|| run(&short), &|| run(&long)])
 }
 
 #[cfg(test)]
@@ -224,17 +218,17 @@ mod tests {
         let walls = RefCell::new(vec![3.0, 9.0, 1.0, 2.0, 7.0].into_iter());
         let a = || {
             calls.borrow_mut().push('a');
-            timed(walls.borrow_mut().next().unwrap(), true)
+            Ok::<_, String>(timed(walls.borrow_mut().next().unwrap(), true))
         };
         let b = || {
             calls.borrow_mut().push('b');
-            timed(50.0, false)
+            Ok(timed(50.0, false))
         };
         let c = || {
             calls.borrow_mut().push('c');
-            timed(4.0, true)
+            Ok(timed(4.0, true))
         };
-        let [a, b, c] = interleaved(3, [&a, &b, &c]);
+        let [a, b, c] = interleaved(3, [&a, &b, &c]).unwrap();
         // Round after round, the unfinished run once only.
         assert_eq!(calls.borrow().iter().collect::<String>(), "abcacac");
         // a ran 3.0, 9.0, 1.0 (the walls were taken in turn with nothing else): median 3.0.
@@ -243,7 +237,16 @@ mod tests {
         assert_eq!(c.wall_s, 4.0);
         // An even count gives the mean of the middle two.
         let walls = RefCell::new(vec![1.0, 5.0].into_iter());
-        let d = || timed(walls.borrow_mut().next().unwrap(), true);
-        assert_eq!(interleaved(2, [&d])[0].wall_s, 3.0);
+        let d = || Ok::<_, String>(timed(walls.borrow_mut().next().unwrap(), true));
+        assert_eq!(interleaved(2, [&d]).unwrap()[0].wall_s, 3.0);
+        // A run's error ends the rounds and is returned.
+        let calls = RefCell::new(0);
+        let e = || {
+            *calls.borrow_mut() += 1;
+            Err::<Timed, _>("no specimen".to_string())
+        };
+        let ok = || Ok(timed(1.0, true));
+        assert_eq!(interleaved(3, [&ok, &e]).unwrap_err(), "no specimen");
+        assert_eq!(*calls.borrow(), 1);
     }
 }

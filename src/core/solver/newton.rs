@@ -219,8 +219,7 @@ impl Solver<'_> {
         if share <= 0.0 || self.bends() || rn > super::DECREMENT_FORCE_SPAN * tolerance {
             return false;
         }
-        let gained = self.model.stored_energy() - self.step_origin.1;
-        c.slope.abs() <= share * gained
+        c.slope.abs() <= share * self.step_gain()
     }
 
     /// After a step's last correction (by [`Solver::decrement_small`]): ends the step (`None`)
@@ -246,9 +245,7 @@ impl Solver<'_> {
     /// gained in the step as work over the step's increment: the drawings' soundness limit on
     /// the whole run, asked of each step, so that no run ended this way can exceed it.
     fn fairly_balanced(&self, a: &Assembly) -> bool {
-        let work = self.residual_work(&a.r, &self.step_origin.0);
-        let gained = self.model.stored_energy() - self.step_origin.1;
-        work.abs() <= super::DECREMENT_WORK_SHARE * gained
+        self.step_work(a) <= super::DECREMENT_WORK_SHARE * self.step_gain()
     }
 
     /// Ends a step at the state its last correction reached, assembly `a`: its residual
@@ -303,9 +300,17 @@ impl Solver<'_> {
         if share <= 0.0 || self.bends() || rn > super::WORK_FORCE_SPAN * tolerance {
             return false;
         }
-        let work = self.residual_work(&a.r, &self.step_origin.0);
-        let gained = self.model.stored_energy() - self.step_origin.1;
-        work.abs() <= share * gained
+        self.step_work(a) <= share * self.step_gain()
+    }
+
+    /// The work of assembly `a`'s residual over the step's increment, `|r · Δu|`, N·mm.
+    fn step_work(&self, a: &Assembly) -> f64 {
+        self.residual_work(&a.r, &self.step_origin.0).abs()
+    }
+
+    /// The stored energy the fabric gained in the step so far, N·mm.
+    fn step_gain(&self) -> f64 {
+        self.model.stored_energy() - self.step_origin.1
     }
 
     /// The Newton correction from the assembled tangent, damped by the pseudo-transient
