@@ -221,7 +221,7 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
     let [open, tight, open_low_friction] = <[BoxRun; 3]>::try_from(runs).expect("three cases");
     let names = cases().map(|(n, _)| n);
     note("wall time against dofs (5, 3.5, 2.5, 1.75 mm)");
-    let (ladder, exponent) = dof_scaling(&[5.0, 3.5, 2.5, 1.75], box_reps);
+    let (ladder, exponent) = dof_scaling([5.0, 3.5, 2.5, 1.75], box_reps);
     note("sweep throughput with 1 and 2 jobs");
     let sweep_per_min = [sweep_throughput(1)?, sweep_throughput(2)?];
     let mut friction = Vec::new();
@@ -448,21 +448,18 @@ pub fn friction_resolution(repetitions: usize) -> Vec<(String, Result<BoxRun, St
 /// median of `repetitions` runs, the rungs taken in turn round after round so that a change of
 /// the machine's load falls on all of them alike), and the least-squares exponent of
 /// `wall ∝ dofs^k`.
-pub fn dof_scaling(sizes_mm: &[f64], repetitions: usize) -> (Vec<(usize, f64)>, f64) {
-    let mut times = vec![Vec::new(); sizes_mm.len()];
-    let mut dofs = vec![0; sizes_mm.len()];
-    for _ in 0..repetitions.max(1) {
-        for (i, &h) in sizes_mm.iter().enumerate() {
-            let t = Instant::now();
-            let r = crate::core::drawing::solve(&paper_box(h), &mut |_| {});
-            times[i].push(t.elapsed().as_secs_f64());
-            dofs[i] = r.dofs;
-        }
-    }
-    let points: Vec<(usize, f64)> = dofs
-        .into_iter()
-        .zip(times.into_iter().map(median))
-        .collect();
+pub fn dof_scaling<const N: usize>(
+    sizes_mm: [f64; N],
+    repetitions: usize,
+) -> (Vec<(usize, f64)>, f64) {
+    use crate::study::scaling::{interleaved, timed_drawing};
+    let runs = sizes_mm.map(|h| {
+        move || Ok::<_, std::convert::Infallible>(timed_drawing(&paper_box(h), f64::INFINITY))
+    });
+    type Run<'a> = &'a dyn Fn() -> Result<crate::study::scaling::Timed, std::convert::Infallible>;
+    let rungs: [_; N] = interleaved(repetitions, std::array::from_fn(|i| &runs[i] as Run))
+        .unwrap_or_else(|never| match never {});
+    let points: Vec<(usize, f64)> = rungs.iter().map(|t| (t.dofs, t.wall_s)).collect();
     let xy: Vec<(f64, f64)> = points
         .iter()
         .map(|&(d, w)| ((d as f64).ln(), w.ln()))

@@ -98,14 +98,13 @@ pub fn timed_drawing(p: &crate::core::drawing::DrawingProblem, deadline_s: f64) 
     }
 }
 
-/// The run of median wall time among `runs` (the solver is deterministic: their counters
-/// agree), its `wall_s` that median.
+/// The first of `runs` with the median of their wall times (the solver is deterministic: their
+/// counters agree).
 fn median_run(mut runs: Vec<Timed>) -> Timed {
-    runs.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
     let wall_s = super::timing::median(runs.iter().map(|r| r.wall_s).collect());
-    let mut mid = runs.swap_remove(runs.len() / 2);
-    mid.wall_s = wall_s;
-    mid
+    let mut first = runs.swap_remove(0);
+    first.wall_s = wall_s;
+    first
 }
 
 /// `repetitions` interleaved rounds of `runs` (each a closure timing one run), the median of
