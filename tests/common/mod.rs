@@ -120,3 +120,42 @@ pub fn assert_says(message: &str, words: &[&str]) {
         assert!(message.contains(w), "`{w}` not in: {message}");
     }
 }
+
+/// The largest entry of `v`.
+pub fn largest(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::MIN, f64::max)
+}
+
+/// Asserts that `changed` moved none of `reference`'s figures by a tenth of the standard level's
+/// band (0.12° of max shear, 0.5 % of the punch force, 3.5 % of the max tension); returns the
+/// moves (°, and shares of the force and the tension).
+pub fn moves_no_figure(
+    reference: &wovenform::core::drawing::DrawingResult,
+    changed: &wovenform::core::drawing::DrawingResult,
+) -> (f64, f64, f64) {
+    let shear = (largest(&changed.shear_deg) - largest(&reference.shear_deg)).abs();
+    assert!(shear <= 0.12, "max shear moved {shear:.4}°");
+    let force = (changed.punch_force_n / reference.punch_force_n - 1.0).abs();
+    assert!(force <= 0.005, "punch force moved {:.3} %", 100.0 * force);
+    let tension = (changed.max_tension_n() / reference.max_tension_n() - 1.0).abs();
+    assert!(
+        tension <= 0.035,
+        "max tension moved {:.3} %",
+        100.0 * tension
+    );
+    (shear, force, tension)
+}
+
+/// The open box with tools and friction off the paper's grid and off the presets (8/13/6 mm,
+/// μ 0.22): the design the solver's ways of ending or shaping a step are judged on.
+pub fn off_grid_box() -> wovenform::core::drawing::DrawingProblem {
+    preset_problem(
+        "paper-box-open.toml",
+        &[
+            "tools.r=8",
+            "tools.rp=13",
+            "tools.rm=6",
+            "process.friction=0.22",
+        ],
+    )
+}

@@ -15,6 +15,7 @@ mod bending;
 mod bias_extension;
 mod box_newton;
 mod capstan;
+mod contact_balance;
 mod contact_checks;
 mod developed_view;
 mod double_dome_tools;

@@ -7,6 +7,7 @@
 //! normal force (which carries the holder force) and the holder face with `μ p A w`, so a
 //! sliding flange carries `2 μ p` per unit area.
 
+mod balance;
 pub mod friction;
 mod held;
 pub mod holder;
@@ -465,6 +466,21 @@ impl NodalTerms for Contact {
                         x[i][m] -= dist.d * dist.n[m];
                     }
                 }
+            }
+        }
+    }
+
+    fn reshape(
+        &self,
+        lambda: f64,
+        x: &[[f64; 3]],
+        du: &mut [[f64; 3]],
+        stiffness: &dyn Fn(usize) -> Option<[[f64; 3]; 3]>,
+    ) {
+        let moves = self.balancing_moves(lambda, x, du, stiffness);
+        for (i, shift) in moves {
+            for m in 0..3 {
+                du[i][m] += shift[m];
             }
         }
     }

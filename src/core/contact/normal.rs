@@ -12,9 +12,10 @@
 //! hovers a micrometre off the tool deep into it, and no stiffness jumps where a light contact
 //! sits (a jump there made the stiffest fabrics chatter between contact and none). The price:
 //! where a node's contact force goes to zero at the solution (the edge of a contact patch) the
-//! force has a double root, and Newton halves that node's depth each iteration instead of
-//! squaring its error. For `d ≤ 0` the force is the plain penalty shifted by `kδ/2`: a node
-//! carrying `F` sinks `F/k − δ/2`.
+//! force has a double root, and Newton's linear model halves that node's depth each iteration
+//! instead of squaring its error; [`balancing_move`] solves the node's own balance in each
+//! correction instead (`crate::core::solver::SolverOptions::reshape_contact`). For `d ≤ 0` the
+//! force is the plain penalty shifted by `kδ/2`: a node carrying `F` sinks `F/k − δ/2`.
 //!
 //! The force on the node is `p n` (the residual gains `−p n`), its derivative
 //! `φ'' n nᵀ − p H`: `φ'' n nᵀ` is positive semi-definite and joins the factorized tangent;
@@ -84,4 +85,36 @@ pub fn penalty(
         }
     }
     Some(out)
+}
+
+/// The outward move `s` (mm) that balances a node's penalty against the rest of its normal
+/// load when that rest is linear in the move: the root of `p(y0 − s) = g + K s`, with `y0 =
+/// δ − d` the node's depth into the gap before the move, `g` (N) the load pressing it into the
+/// tool and `K ≥ 0` (N/mm) its stiffness against moving out (fabric, holder, damping), for
+/// penalty `k` and gap `delta`. `p` rises with the depth, so the root is unique; `None` when
+/// there is none (`K = 0` and the load pulls the node off the tool: the move is not bounded).
+///
+/// Newton linearises `p` where the node is, and where a contact fades out (`p = k y²/2δ`) its
+/// linear model halves the depth at each correction. Put back into a node's share of the
+/// correction, this root is where the node's own balance lies, reached in one correction.
+pub fn balancing_move(k: f64, delta: f64, y0: f64, g: f64, stiffness: f64) -> Option<f64> {
+    if !(stiffness >= 0.0 && k > 0.0 && delta > 0.0 && g.is_finite() && y0.is_finite()) {
+        return None;
+    }
+    // In the depth y = y0 − s: p(y) + K y = R, the left side rising in y.
+    let rhs = g + stiffness * y0;
+    let y = if rhs <= 0.0 {
+        // Off the tool (p = 0): K y = R.
+        if stiffness == 0.0 {
+            return None;
+        }
+        rhs / stiffness
+    } else if 0.5 * k * delta + stiffness * delta >= rhs {
+        // In the gap: k y²/2δ + K y = R (the stable root).
+        2.0 * rhs / (stiffness + (stiffness * stiffness + 2.0 * k * rhs / delta).sqrt())
+    } else {
+        // Pressed: k (y − δ/2) + K y = R.
+        (rhs + 0.5 * k * delta) / (k + stiffness)
+    };
+    Some(y0 - y)
 }

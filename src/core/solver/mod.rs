@@ -21,6 +21,7 @@ mod correction;
 mod line_search;
 mod model;
 mod newton;
+mod reshape;
 mod site;
 mod stepping;
 mod terms;
@@ -76,6 +77,12 @@ pub struct SolverOptions {
     /// ends the tails where Newton halves a lifting node's depth in the contact's eased gap,
     /// micrometres from its balance (`guide::cost_newton`, "Session eleven").
     pub tol_decrement: f64,
+    /// Put each node's share of a Newton correction along a tool's normal where its own
+    /// balance with the penalty lies, the rest of the correction held ([`NodalTerms::reshape`],
+    /// `guide::cost_newton`, "Session twelve"): a node lifting off a tool, whose depth in the
+    /// eased gap Newton's linear model halves at each correction, reaches its balance in one;
+    /// one coming onto a tool is not thrown through the gap. On by default.
+    pub reshape_contact: bool,
     /// Pseudo-transient stabilisation `κ` of the Newton corrections (dimensionless; 0 turns it
     /// off).
     pub stabilisation: f64,
@@ -115,6 +122,7 @@ impl Default for SolverOptions {
             tol_floor: 1e-7,
             tol_work: 0.0,
             tol_decrement: 0.0,
+            reshape_contact: true,
             stabilisation: 1e-4,
             exact_jacobian: true,
             max_lag_passes: 20,

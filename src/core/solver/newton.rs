@@ -168,7 +168,7 @@ impl Solver<'_> {
             if it == cap {
                 break;
             }
-            let mut c = self.correction(&a, rn, &mut progress)?;
+            let mut c = self.correction(&a, rn, lambda, &*terms, &mut progress)?;
             let last = self.decrement_small(&c, rn, tolerance);
             let scale = progress.cycle_breaker(&history.residuals, &mut c);
             let x = self.model.positions();
@@ -314,11 +314,14 @@ impl Solver<'_> {
     }
 
     /// The Newton correction from the assembled tangent, damped by the pseudo-transient
-    /// stabilisation (fading with the residual) and the Levenberg–Marquardt part.
+    /// stabilisation (fading with the residual) and the Levenberg–Marquardt part, with each
+    /// node's contact at load `lambda` solved in it ([`Solver::reshape`]).
     fn correction(
         &mut self,
         a: &Assembly,
         rn: f64,
+        lambda: f64,
+        terms: &dyn NodalTerms,
         progress: &mut Progress,
     ) -> Result<Correction, NewtonError> {
         let r0 = *progress.first_residual.get_or_insert(rn);
@@ -338,7 +341,7 @@ impl Solver<'_> {
             self.stats.mechanism = true;
         }
         self.stats.newton_iterations += 1;
-        Ok(c)
+        Ok(self.reshape(lambda, terms, &a.r, c))
     }
 
     /// The line search along `c` from the current state (positions `x`); returns the length

@@ -70,6 +70,19 @@ pub trait NodalTerms: Sync {
     /// stiffness in the correction, which may throw it far into the tool. It is put on the
     /// tool's surface, where the next correction sees the contact.
     fn project_trial(&self, _lambda: f64, _x_base: &[[f64; 3]], _x: &mut [[f64; 3]]) {}
+    /// Puts back into a Newton correction `du` (per node, mm, from the state `x`) what its
+    /// linear model of these terms misses at single nodes, each node's share moved to where
+    /// its own balance lies with the rest of the correction held. `stiffness(i)`: node `i`'s
+    /// own 3×3 block of the factorized tangent, `K_ii` (N/mm; `None` when a dof of the node is
+    /// prescribed).
+    fn reshape(
+        &self,
+        _lambda: f64,
+        _x: &[[f64; 3]],
+        _du: &mut [[f64; 3]],
+        _stiffness: &dyn Fn(usize) -> Option<[[f64; 3]; 3]>,
+    ) {
+    }
     /// Takes lagged quantities from the converged state `x` of a step, for terms that lag them
     /// (the step is then solved again, to a fixed point). `false` when nothing is lagged.
     fn relag(&mut self, _lambda: f64, _x: &[[f64; 3]]) -> bool {
