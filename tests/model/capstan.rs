@@ -45,8 +45,8 @@ impl NodalTerms for WithDeadLoad {
     fn begin_step(&mut self, lambda_start: f64, lambda: f64, x: &[[f64; 3]]) {
         self.contact.begin_step(lambda_start, lambda, x);
     }
-    fn project(&self, lambda: f64, x: &mut [[f64; 3]]) {
-        self.contact.project(lambda, x);
+    fn project(&self, lambda: f64, x: &mut [[f64; 3]], keep_slide: bool) {
+        self.contact.project(lambda, x, keep_slide);
     }
     fn relag(&mut self, lambda: f64, x: &[[f64; 3]]) -> bool {
         self.contact.relag(lambda, x)

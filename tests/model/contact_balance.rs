@@ -9,9 +9,16 @@
 //!   Newton iterations with it, the same load steps, and no figure moved by a tenth of the
 //!   standard level's band (0.12° of shear, 0.5 % of the punch force, 3.5 % of the max
 //!   tension).
+//!
+//! And the predictor's projection that keeps the distance a node slid on a tool at rest
+//! (`SolverOptions::keep_slide`): on the die's entry radius, a node slid along its tangent and
+//! put back along the normal falls short by the circle's closed form; kept, it slides the whole
+//! distance at its gap. The same box with it and without: fewer iterations, no figure moved.
 
-use wovenform::core::contact::normal;
+use wovenform::core::contact::{Contact, ContactOptions, ToolMotion, normal};
 use wovenform::core::drawing::{self, DrawingResult};
+use wovenform::core::solver::NodalTerms;
+use wovenform::core::tools::Tool;
 
 use crate::common;
 
@@ -54,23 +61,96 @@ fn a_node_balance_matches_a_bisection_on_each_piece_of_the_penalty() {
     assert_eq!(normal::balancing_move(k, delta, 0.03, -1.0, 0.0), None);
 }
 
-fn run(reshape: bool) -> DrawingResult {
+fn run(reshape: bool, keep_slide: bool) -> DrawingResult {
     let mut problem = common::off_grid_box();
     problem.solver.reshape_contact = reshape;
+    problem.solver.keep_slide = keep_slide;
     let r = drawing::solve(&problem, &mut |_| {});
     assert!(r.converged, "{:?}", r.failure);
     r
 }
 
-#[test]
-fn the_node_balance_saves_iterations_and_moves_no_figure_on_a_box() {
-    let (plain, reshaped) = (run(false), run(true));
-    let (a, b) = (&plain.stats, &reshaped.stats);
+/// The box run without a change (`plain`) and with it (`changed`): fewer Newton iterations in
+/// no more load steps, and no figure moved by a tenth of the standard band.
+fn saves_iterations_and_moves_no_figure(plain: &DrawingResult, changed: &DrawingResult) {
+    let (a, b) = (&plain.stats, &changed.stats);
     println!(
         "Newton iterations {} -> {}, steps {} -> {}",
         a.newton_iterations, b.newton_iterations, a.steps, b.steps
     );
     assert!(b.newton_iterations < a.newton_iterations);
     assert!(b.steps <= a.steps);
-    common::moves_no_figure(&plain, &reshaped);
+    common::moves_no_figure(plain, changed);
+}
+
+#[test]
+fn the_node_balance_saves_iterations_and_moves_no_figure_on_a_box() {
+    saves_iterations_and_moves_no_figure(&run(false, true), &run(true, true));
+}
+
+/// A node on the die's entry radius (rm 5 mm, the die at rest), `sink` inside it, slid `slide`
+/// mm along the radius's tangent towards the cavity and put back: its start and where it ends.
+fn slid_on_the_radius(slide: f64, sink: f64, keep_slide: bool) -> ([f64; 3], [f64; 3]) {
+    let die = ToolMotion {
+        tool: Tool::elliptic_die([30.0, 30.0], 1.5, 5.0),
+        tip_start: 0.0,
+        stroke: 0.0,
+    };
+    let options = ContactOptions {
+        friction: 0.0,
+        slip_regularisation: 0.025,
+        penalty_factor: 1.0,
+        contact_smoothing: 0.025,
+        lagged: false,
+    };
+    let mut contact = Contact::new(vec![die], None, options, vec![6.25], &[2.0e4], 1.0, 5.0);
+    let (centre, theta) = ([36.5, 0.0, -5.0], 0.4f64);
+    let r = 5.0 - sink;
+    let start = [
+        centre[0] - r * theta.sin(),
+        0.0,
+        centre[2] + r * theta.cos(),
+    ];
+    contact.begin_step(0.25, 0.3, &[start]);
+    let mut x = [[
+        start[0] - slide * theta.cos(),
+        0.0,
+        start[2] - slide * theta.sin(),
+    ]];
+    contact.project(0.3, &mut x, keep_slide);
+    (start, x[0])
+}
+
+fn length(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|m| (a[m] - b[m]).powi(2)).sum::<f64>().sqrt()
+}
+
+#[test]
+fn the_predictor_keeps_the_distance_a_node_slid_over_the_die_radius() {
+    let (slide, sink) = (1.2, 0.004);
+    let r = 5.0 - sink;
+    let centre = [36.5, 0.0, -5.0];
+    // Put back along the normal: the chord of the angle atan(L/r) on the circle of radius r.
+    let (start, plain) = slid_on_the_radius(slide, sink, false);
+    let expected = 2.0 * r * ((slide / r).atan() / 2.0).sin();
+    let got = length(plain, start);
+    assert!((got - expected).abs() < 1e-9, "{got} against {expected}");
+    assert!(
+        slide - got > 0.01,
+        "the shortfall the projection makes: {}",
+        slide - got
+    );
+    // Kept: the whole distance, on the circle at the same gap.
+    let (_, kept) = slid_on_the_radius(slide, sink, true);
+    let shortfall = slide - length(kept, start);
+    assert!(
+        shortfall.abs() < 1e-2 * (slide - got),
+        "still short by {shortfall}"
+    );
+    assert!((length(kept, centre) - r).abs() < 1e-9, "off its gap");
+}
+
+#[test]
+fn keeping_the_slide_saves_iterations_and_moves_no_figure_on_a_box() {
+    saves_iterations_and_moves_no_figure(&run(true, false), &run(true, true));
 }

@@ -12,6 +12,7 @@ pub mod friction;
 mod held;
 pub mod holder;
 pub mod normal;
+mod predict;
 
 pub use holder::{Holder, Plate};
 
@@ -76,6 +77,8 @@ struct Pair {
     carried: [f64; 3],
     /// Signed distance at the step's start, mm.
     d_start: f64,
+    /// The node's position at the step's start, mm.
+    x_start: [f64; 3],
     /// Friction's normal force and unit normal taken at the Newton iterate by
     /// [`NodalTerms::freeze`] (the line search's merit), or lagged (`ContactOptions::lagged`).
     lag_force: f64,
@@ -409,6 +412,7 @@ impl NodalTerms for Contact {
                 let d = tool.distance(x[i]).d;
                 let pair = &mut self.pairs[t * n + i];
                 pair.d_start = d;
+                pair.x_start = x[i];
                 for m in 0..3 {
                     pair.anchor[m] = x[i][m] - pair.carried[m];
                 }
@@ -429,29 +433,8 @@ impl NodalTerms for Contact {
         }
     }
 
-    fn project(&self, lambda: f64, x: &mut [[f64; 3]]) {
-        let n = x.len();
-        let delta = self.options.contact_smoothing;
-        for t in 0..self.tools.len() {
-            let tool = self.tools[t].at(lambda);
-            for &i in &self.active[t] {
-                let i = i as usize;
-                let d_start = self.pairs[t * n + i].d_start;
-                let dist = self.distance(t, i, &tool, x[i], false).0;
-                // A node the tool pressed keeps its gap, and so about its pressure; one that was
-                // free is kept out of the tool's reach.
-                let goal = if d_start < delta {
-                    d_start
-                } else if dist.d < delta {
-                    delta
-                } else {
-                    continue;
-                };
-                for m in 0..3 {
-                    x[i][m] += (goal - dist.d) * dist.n[m];
-                }
-            }
-        }
+    fn project(&self, lambda: f64, x: &mut [[f64; 3]], keep_slide: bool) {
+        self.project_predicted(lambda, x, keep_slide);
     }
 
     fn project_trial(&self, lambda: f64, x_base: &[[f64; 3]], x: &mut [[f64; 3]]) {

@@ -93,6 +93,11 @@ pub struct SolverOptions {
     pub max_lag_passes: u32,
     /// Move the predicted state back onto the tools the nodes touched.
     pub project_predictor: bool,
+    /// In that, a node sliding on a tool at rest keeps the distance the predictor slid it
+    /// (`NodalTerms::project`): put back along the normal on the die's radius it fell short of
+    /// its neighbour on the flat, and the yarn between them went slack (`guide::cost_newton`,
+    /// "Session twelve"). On by default.
+    pub keep_slide: bool,
     /// Put the nodes a correction throws into a tool they did not touch onto its surface.
     pub project_trials: bool,
     /// Assemble elements on rayon's pool (set false inside a parallel sweep if wanted). Best
@@ -127,6 +132,7 @@ impl Default for SolverOptions {
             exact_jacobian: true,
             max_lag_passes: 20,
             project_predictor: true,
+            keep_slide: true,
             project_trials: true,
             parallel: true,
             factor_threads: 1,

@@ -184,7 +184,7 @@ impl Solver<'_> {
         self.apply_prescribed(target, prescribed);
         if self.options.project_predictor {
             let mut x = self.model.positions();
-            terms.project(target, &mut x);
+            terms.project(target, &mut x, self.options.keep_slide);
             self.model.set_free_positions(&x);
         }
         // A membrane step starts where the last one's first correction was taken: the mid-side

@@ -63,8 +63,9 @@ pub trait NodalTerms: Sync {
     /// `lambda_start` towards `lambda`.
     fn begin_step(&mut self, _lambda_start: f64, _lambda: f64, _x: &[[f64; 3]]) {}
     /// Moves predicted positions at `lambda` so that the nodes that touched a tool at the step's
-    /// start touch it again, and none starts inside a tool.
-    fn project(&self, _lambda: f64, _x: &mut [[f64; 3]]) {}
+    /// start touch it again, and none starts inside a tool; with `keep_slide`, a node that slid
+    /// on a tool at rest keeps the distance it slid in the prediction.
+    fn project(&self, _lambda: f64, _x: &mut [[f64; 3]], _keep_slide: bool) {}
     /// Moves a trial state `x` of the line search (from the base `x_base`) so that no node that
     /// a tool did not press at the base starts deep inside one: such a node has no contact
     /// stiffness in the correction, which may throw it far into the tool. It is put on the
