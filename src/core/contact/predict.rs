@@ -11,7 +11,8 @@
 //! node is moved on along the tool to the distance it slid in the secant and put back again,
 //! [`SLIDE_PASSES`] times. Not on a moving tool (the punch): there it measured worse.
 
-use super::{Contact, dot};
+use super::Contact;
+use crate::core::vec3::{dot, sub};
 
 /// Moves along the tool that restore a node's slid distance (see the module).
 const SLIDE_PASSES: usize = 3;
@@ -35,7 +36,8 @@ impl Contact {
                 } else {
                     continue;
                 };
-                let slid = distance(x[i], pair.x_start);
+                let moved = sub(x[i], pair.x_start);
+                let slid = dot(moved, moved).sqrt();
                 for m in 0..3 {
                     x[i][m] += (goal - dist.d) * dist.n[m];
                 }
@@ -45,7 +47,7 @@ impl Contact {
                 // Each pass leaves a shortfall of about the last one's times (L/2R)² (on the
                 // die's radius 5 mm, 1.2 mm short by 0.025, then 3.6e-4, then 5e-6).
                 for _ in 0..SLIDE_PASSES {
-                    let v: [f64; 3] = std::array::from_fn(|m| x[i][m] - pair.x_start[m]);
+                    let v = sub(x[i], pair.x_start);
                     let len = dot(v, v).sqrt();
                     if !(len > 0.0 && len < slid) {
                         break;
@@ -59,8 +61,4 @@ impl Contact {
             }
         }
     }
-}
-
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    (0..3).map(|m| (a[m] - b[m]).powi(2)).sum::<f64>().sqrt()
 }
