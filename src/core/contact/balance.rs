@@ -5,9 +5,7 @@
 //! ([`normal::balancing_move`]).
 
 use super::{Contact, dot, normal, unit_normal};
-
-/// A node's own 3×3 block of the factorized tangent, N/mm (`None`: a dof of it is prescribed).
-type Stiffness<'a> = &'a dyn Fn(usize) -> Option<[[f64; 3]; 3]>;
+use crate::core::solver::NodeStiffness;
 
 /// `aᵀ K b`.
 fn quad(k: &[[f64; 3]; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -25,7 +23,7 @@ impl Contact {
         lambda: f64,
         x: &[[f64; 3]],
         du: &[[f64; 3]],
-        stiffness: Stiffness,
+        stiffness: NodeStiffness,
     ) -> Vec<(usize, [f64; 3])> {
         let delta = self.options.contact_smoothing;
         let mut seen = vec![0u8; x.len()];

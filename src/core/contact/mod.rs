@@ -16,7 +16,7 @@ mod predict;
 
 pub use holder::{Holder, Plate};
 
-use super::solver::{NodalSums, NodalTerms, NodeBlock, RankOne};
+use super::solver::{NodalSums, NodalTerms, NodeBlock, NodeStiffness, RankOne};
 use super::tools::{Distance, Tool};
 
 /// One tool's role in the drawing.
@@ -458,14 +458,15 @@ impl NodalTerms for Contact {
         lambda: f64,
         x: &[[f64; 3]],
         du: &mut [[f64; 3]],
-        stiffness: &dyn Fn(usize) -> Option<[[f64; 3]; 3]>,
-    ) {
+        stiffness: NodeStiffness,
+    ) -> bool {
         let moves = self.balancing_moves(lambda, x, du, stiffness);
-        for (i, shift) in moves {
+        for (i, shift) in &moves {
             for m in 0..3 {
-                du[i][m] += shift[m];
+                du[*i][m] += shift[m];
             }
         }
+        !moves.is_empty()
     }
 
     fn freeze(&mut self, lambda: f64, x: &[[f64; 3]]) {

@@ -31,7 +31,8 @@ pub use newton::NewtonError;
 pub use site::ResidualSite;
 pub use stepping::Failure;
 pub use terms::{
-    LinearPrescribed, NoNodalTerms, NodalSums, NodalTerms, NodeBlock, Prescribed, RankOne,
+    LinearPrescribed, NoNodalTerms, NodalSums, NodalTerms, NodeBlock, NodeStiffness, Prescribed,
+    RankOne,
 };
 
 use assembly::Workspace;

@@ -54,9 +54,7 @@ impl Solver<'_> {
             }
             Some(k)
         };
-        let before = du.clone();
-        terms.reshape(lambda, &x, &mut du, &stiffness);
-        if du == before {
+        if !terms.reshape(lambda, &x, &mut du, &stiffness) {
             return c;
         }
         let mut reshaped = vec![0.0; c.du.len()];

@@ -42,6 +42,10 @@ pub struct RankOne {
     pub total: f64,
 }
 
+/// Node `i`'s own 3×3 block of the factorized tangent, `K_ii` (N/mm; `None` when a dof of the
+/// node is prescribed): what [`NodalTerms::reshape`] holds the rest of a node's load to.
+pub type NodeStiffness<'a> = &'a dyn Fn(usize) -> Option<[[f64; 3]; 3]>;
+
 /// What [`NodalTerms::add`] returns besides the forces.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NodalSums {
@@ -73,16 +77,16 @@ pub trait NodalTerms: Sync {
     fn project_trial(&self, _lambda: f64, _x_base: &[[f64; 3]], _x: &mut [[f64; 3]]) {}
     /// Puts back into a Newton correction `du` (per node, mm, from the state `x`) what its
     /// linear model of these terms misses at single nodes, each node's share moved to where
-    /// its own balance lies with the rest of the correction held. `stiffness(i)`: node `i`'s
-    /// own 3×3 block of the factorized tangent, `K_ii` (N/mm; `None` when a dof of the node is
-    /// prescribed).
+    /// its own balance lies with the rest of the correction held. Returns whether any node's
+    /// share moved.
     fn reshape(
         &self,
         _lambda: f64,
         _x: &[[f64; 3]],
         _du: &mut [[f64; 3]],
-        _stiffness: &dyn Fn(usize) -> Option<[[f64; 3]; 3]>,
-    ) {
+        _stiffness: NodeStiffness,
+    ) -> bool {
+        false
     }
     /// Takes lagged quantities from the converged state `x` of a step, for terms that lag them
     /// (the step is then solved again, to a fixed point). `false` when nothing is lagged.
