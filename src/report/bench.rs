@@ -72,8 +72,21 @@ fn scaling_json(s: &Scaling) -> serde_json::Value {
         "open_box_fine_parallel_assembly": timed_json(assembly),
         "open_box_fine_parallel_assembly_and_factorization": timed_json(all),
         "threads": s.threads,
-        "open_box_fine_speedup_assembly": one.wall_s / assembly.wall_s,
-        "open_box_fine_speedup_assembly_and_factorization": one.wall_s / all.wall_s,
+        "open_box_fine_speedup_assembly": speedup(one, assembly),
+        "open_box_fine_speedup_assembly_and_factorization": speedup(one, all),
+    })
+}
+
+/// One thread's wall time over `many`'s, when both runs reached the full stroke (a run stopped
+/// at the deadline says nothing of the speed-up: both may have stopped there).
+fn speedup(one: &crate::study::scaling::Timed, many: &crate::study::scaling::Timed) -> Option<f64> {
+    (one.finished && many.finished).then(|| one.wall_s / many.wall_s)
+}
+
+/// [`speedup`] as text.
+fn speedup_text(one: &crate::study::scaling::Timed, many: &crate::study::scaling::Timed) -> String {
+    speedup(one, many).map_or("no speed-up: a run stopped at the deadline".into(), |v| {
+        format!("speed-up {v:.2}")
     })
 }
 
@@ -393,12 +406,40 @@ fn write_scaling(s: &Scaling, out: &mut String) {
     let [one, assembly, all] = &s.open_fine;
     let _ = writeln!(
         out,
-        "  open box at fine: {} on one thread; on {} threads, {} assembling (speed-up {:.2}), {} assembling and factorizing (speed-up {:.2})",
+        "  open box at fine: {} on one thread; on {} threads, {} assembling ({}), {} assembling and factorizing ({})",
         timed_text(one),
         s.threads,
         timed_text(assembly),
-        one.wall_s / assembly.wall_s,
+        speedup_text(one, assembly),
         timed_text(all),
-        one.wall_s / all.wall_s
+        speedup_text(one, all)
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::scaling::Timed;
+
+    fn timed(wall_s: f64, finished: bool) -> Timed {
+        Timed {
+            wall_s,
+            dofs: 14_145,
+            steps: 20,
+            newton_iterations: 150,
+            finished,
+            failure: (!finished).then(|| "stopped on request".into()),
+        }
+    }
+
+    #[test]
+    fn a_speed_up_needs_both_runs_to_reach_the_full_stroke() {
+        let one = timed(4.0, true);
+        assert_eq!(speedup(&one, &timed(3.2, true)), Some(1.25));
+        // Both stopped at the same deadline: their times say nothing of the speed-up.
+        assert_eq!(speedup(&timed(2.0, false), &timed(2.0, false)), None);
+        assert_eq!(speedup(&one, &timed(2.0, false)), None);
+        assert!(speedup_text(&one, &timed(2.0, false)).starts_with("no speed-up"));
+        assert_eq!(speedup_text(&one, &timed(3.2, true)), "speed-up 1.25");
+    }
 }

@@ -236,16 +236,31 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
     }
     let scaling = o.scaling.map(|deadline_s| {
         note("the open box at fine on one thread, assembling on all, and factorizing on all too");
-        let one = crate::study::scaling::timed_drawing(&paper_box(1.25), deadline_s);
+        let serial = paper_box(1.25);
         // As `wovenform run` solves one design: on a worker of rayon's pool.
-        let mut p = paper_box(1.25);
-        p.solver.parallel = true;
-        let pooled = |p: &crate::core::drawing::DrawingProblem| {
-            crate::machine::on_pool(|| crate::study::scaling::timed_drawing(p, deadline_s))
+        let mut parallel = paper_box(1.25);
+        parallel.solver.parallel = true;
+        let mut factorized = parallel.clone();
+        factorized.solver.factor_threads = 0;
+        let timed = |p: &crate::core::drawing::DrawingProblem, pooled: bool| {
+            let run = || crate::study::scaling::timed_drawing(p, deadline_s);
+            Ok::<_, std::convert::Infallible>(if pooled {
+                crate::machine::on_pool(run)
+            } else {
+                run()
+            })
         };
-        let assembly = pooled(&p);
-        p.solver.factor_threads = 0;
-        let all = pooled(&p);
+        // Interleaved and repeated: a single run of each moved by ±10 % with the machine's load,
+        // as much as two threads gain.
+        let [one, assembly, all] = crate::study::scaling::interleaved(
+            box_reps,
+            [
+                &|| timed(&serial, false),
+                &|| timed(&parallel, true),
+                &|| timed(&factorized, true),
+            ],
+        )
+        .unwrap_or_else(|never| match never {});
         note("designs of the grid at standard and fine");
         let designs = crate::study::scaling::fine_over_standard(deadline_s, box_reps, &|name| {
             note(&format!("  {name}"))
