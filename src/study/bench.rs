@@ -234,46 +234,9 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
         note("STL tools against the analytic ones (open box, tight box, hemisphere)");
         mesh = crate::study::mesh_bench::mesh_tools(box_reps.min(3));
     }
-    let scaling = o.scaling.map(|deadline_s| {
-        note("the open box at fine on one thread, assembling on all, and factorizing on all too");
-        let serial = paper_box(1.25);
-        // As `wovenform run` solves one design: on a worker of rayon's pool.
-        let mut parallel = paper_box(1.25);
-        parallel.solver.parallel = true;
-        let mut factorized = parallel.clone();
-        factorized.solver.factor_threads = 0;
-        let timed = |p: &crate::core::drawing::DrawingProblem, pooled: bool| {
-            let run = || crate::study::scaling::timed_drawing(p, deadline_s);
-            Ok::<_, std::convert::Infallible>(if pooled {
-                crate::machine::on_pool(run)
-            } else {
-                run()
-            })
-        };
-        // Interleaved and repeated: a single run of each moved by ±10 % with the machine's load,
-        // as much as two threads gain.
-        let [one, assembly, all] = crate::study::scaling::interleaved(
-            box_reps,
-            [
-                &|| timed(&serial, false),
-                &|| timed(&parallel, true),
-                &|| timed(&factorized, true),
-            ],
-        )
-        .unwrap_or_else(|never| match never {});
-        note("designs of the grid at standard and fine");
-        let designs = crate::study::scaling::fine_over_standard(deadline_s, box_reps, &|name| {
-            note(&format!("  {name}"))
-        });
-        note("the bias-extension test, 300 × 150 mm to 55 mm and 450 × 150 mm to 105 mm");
-        Scaling {
-            deadline_s,
-            designs,
-            bias: crate::study::scaling::bias_pair(deadline_s, box_reps),
-            open_fine: [one, assembly, all],
-            threads: rayon::current_num_threads(),
-        }
-    });
+    let scaling = o
+        .scaling
+        .map(|deadline_s| scaling(deadline_s, box_reps, note));
     let bending = o.bending.then(|| {
         note("the open box, whole blank, at standard without and with bending");
         bending_cost()
@@ -297,6 +260,51 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
         scaling,
         bending,
     })
+}
+
+/// What a finer answer costs (`bench --scaling`): the open box at fine on one thread, assembling
+/// on all, and factorizing on all too; the designs of the grid at fine over standard; the long
+/// bias-extension specimen over the short one. Each run stops after `deadline_s`; each time is
+/// the median of `box_reps` interleaved runs.
+fn scaling(deadline_s: f64, box_reps: usize, note: &dyn Fn(&str)) -> Scaling {
+    note("the open box at fine on one thread, assembling on all, and factorizing on all too");
+    let serial = paper_box(1.25);
+    // As `wovenform run` solves one design: on a worker of rayon's pool.
+    let mut parallel = paper_box(1.25);
+    parallel.solver.parallel = true;
+    let mut factorized = parallel.clone();
+    factorized.solver.factor_threads = 0;
+    let timed = |p: &crate::core::drawing::DrawingProblem, pooled: bool| {
+        let run = || crate::study::scaling::timed_drawing(p, deadline_s);
+        Ok::<_, std::convert::Infallible>(if pooled {
+            crate::machine::on_pool(run)
+        } else {
+            run()
+        })
+    };
+    // Interleaved and repeated: a single run of each moved by ±10 % with the machine's load,
+    // as much as two threads gain.
+    let [one, assembly, all] = crate::study::scaling::interleaved(
+        box_reps,
+        [
+            &|| timed(&serial, false),
+            &|| timed(&parallel, true),
+            &|| timed(&factorized, true),
+        ],
+    )
+    .unwrap_or_else(|never| match never {});
+    note("designs of the grid at standard and fine");
+    let designs = crate::study::scaling::fine_over_standard(deadline_s, box_reps, &|name| {
+        note(&format!("  {name}"))
+    });
+    note("the bias-extension test, 300 × 150 mm to 55 mm and 450 × 150 mm to 105 mm");
+    Scaling {
+        deadline_s,
+        designs,
+        bias: crate::study::scaling::bias_pair(deadline_s, box_reps),
+        open_fine: [one, assembly, all],
+        threads: rayon::current_num_threads(),
+    }
 }
 
 /// One drawing's runs: its counters, its wall times, and (on its final state) where one Newton
