@@ -79,12 +79,12 @@ fn scaling_json(s: &Scaling) -> serde_json::Value {
 
 /// One thread's wall time over `many`'s, when both runs reached the full stroke (a run stopped
 /// at the deadline says nothing of the speed-up: both may have stopped there).
-fn speedup(one: &crate::study::scaling::Timed, many: &crate::study::scaling::Timed) -> Option<f64> {
+fn speedup(one: &Timed, many: &Timed) -> Option<f64> {
     (one.finished && many.finished).then(|| one.wall_s / many.wall_s)
 }
 
 /// [`speedup`] as text.
-fn speedup_text(one: &crate::study::scaling::Timed, many: &crate::study::scaling::Timed) -> String {
+fn speedup_text(one: &Timed, many: &Timed) -> String {
     speedup(one, many).map_or("no speed-up: a run stopped at the deadline".into(), |v| {
         format!("speed-up {v:.2}")
     })
@@ -419,7 +419,6 @@ fn write_scaling(s: &Scaling, out: &mut String) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::study::scaling::Timed;
 
     fn timed(wall_s: f64, finished: bool) -> Timed {
         Timed {
