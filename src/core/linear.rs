@@ -1,56 +1,21 @@
 //! The symmetric sparse linear solve of each Newton iteration: a pattern built once per mesh, the
 //! symbolic Cholesky analysis (fill-reducing ordering applied to the pattern itself, elimination
 //! tree, supernodes) done once on it, and a numeric `LLᵀ` factorization per iteration into reused
-//! storage. When the tangent is not
-//! positive definite, the factorization is retried on `K + δ·diag(K)` with growing `δ`.
+//! storage. On two threads the factorization and its solves are split over two halves of the
+//! equations ([`crate::core::split_cholesky`]). When the tangent is not positive definite, the
+//! factorization is retried on `K + δ·diag(K)` with growing `δ`.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-/// The upper triangle of a symmetric matrix in compressed sparse columns (rows sorted).
-#[derive(Clone, Debug)]
-pub struct UpperPattern {
-    pub n: usize,
-    pub col_ptr: Vec<usize>,
-    pub row_idx: Vec<usize>,
-}
-
-impl UpperPattern {
-    /// From a list of `(row, col)` couplings (either order; duplicates allowed). The diagonal is
-    /// always included.
-    pub fn from_couplings(n: usize, couplings: impl Iterator<Item = (usize, usize)>) -> Self {
-        let mut cols: Vec<Vec<usize>> = (0..n).map(|j| vec![j]).collect();
-        for (i, j) in couplings {
-            let (r, c) = if i <= j { (i, j) } else { (j, i) };
-            cols[c].push(r);
-        }
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        col_ptr.push(0);
-        for mut c in cols {
-            c.sort_unstable();
-            c.dedup();
-            row_idx.extend_from_slice(&c);
-            col_ptr.push(row_idx.len());
-        }
-        UpperPattern {
-            n,
-            col_ptr,
-            row_idx,
-        }
-    }
-
-    pub fn nnz(&self) -> usize {
-        self.row_idx.len()
-    }
-}
+use super::pattern;
+pub use super::pattern::UpperPattern;
+use super::split_cholesky::SplitCholesky;
 
 /// How a solve went.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,23 +28,11 @@ pub struct SolveInfo {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NotFactorizable;
 
-/// The scratch memory a numeric factorization and a one-column solve need at `par`.
-fn scratch(symbolic: &SymbolicCholesky<usize>, par: Par) -> faer::dyn_stack::StackReq {
+/// The scratch memory a numeric factorization and a one-column solve need.
+fn scratch(symbolic: &SymbolicCholesky<usize>) -> faer::dyn_stack::StackReq {
     symbolic
-        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-        .or(symbolic.solve_in_place_scratch::<f64>(1, par))
-}
-
-/// Runs `f` on a worker of rayon's pool when `par` is parallel. faer's supernodal factorization
-/// visits the supernodes in order and splits each one's dense kernels over the threads: called
-/// from outside the pool, every split is a hand-over to the pool and back, which made the open
-/// box at fine 1.7× slower on two threads than on one (14.3 s against 8.5 s); from inside, the
-/// same (8.6 s).
-fn in_pool<R: Send>(par: Par, f: impl FnOnce() -> R + Send) -> R {
-    match par {
-        Par::Seq => f(),
-        _ => rayon::scope(|_| f()),
-    }
+        .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+        .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
 }
 
 /// A sparse Cholesky solver bound to one pattern.
@@ -102,8 +55,9 @@ pub struct SparseCholesky {
     diag: Vec<usize>,
     permuted_rhs: Vec<f64>,
     mem: MemBuffer,
-    /// The factorization's and the solves' parallelism (sequential unless asked).
-    par: Par,
+    /// On two threads: the factorization split over two halves of the equations and their
+    /// separator (`None`: one thread, or no fair split).
+    split: Option<Box<SplitCholesky>>,
 }
 
 impl SparseCholesky {
@@ -141,29 +95,8 @@ impl SparseCholesky {
             row_idx.extend_from_slice(&col);
             col_ptr.push(row_idx.len());
         }
-        // faer's analysis without ordering reads the upper triangle; its supernodal numeric
-        // factorization reads the lower one without copying it.
-        let upper = UpperPattern::from_couplings(
-            n,
-            (0..n).flat_map(|c| {
-                row_idx[col_ptr[c]..col_ptr[c + 1]]
-                    .iter()
-                    .map(move |&r| (r, c))
-            }),
-        );
-        let symbolic = factorize_symbolic_cholesky(
-            SymbolicSparseColMatRef::new_checked(n, n, &upper.col_ptr, None, &upper.row_idx),
-            Side::Upper,
-            SymmetricOrdering::Identity,
-            // Always supernodal: faer's automatic choice takes the simplicial variant on some of
-            // the yarn grids (1,825 and 936 dofs), where it made whole runs 1.6–2× slower.
-            CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                ..Default::default()
-            },
-        )
-        .expect("symbolic Cholesky analysis of the permuted pattern");
-        let req = scratch(&symbolic, Par::Seq);
+        let symbolic = pattern::analyse(&col_ptr, &row_idx);
+        let req = scratch(&symbolic);
         let l_values = vec![0.0; symbolic.len_val()];
         // The diagonal leads each column of a lower triangle.
         let diag = col_ptr[..n].to_vec();
@@ -178,23 +111,44 @@ impl SparseCholesky {
             l_values,
             diag,
             mem: MemBuffer::new(req),
-            par: Par::Seq,
+            split: None,
         }
     }
 
-    /// Factorize and solve on up to `threads` threads of rayon's pool (1: sequential). The
-    /// supernodal factorization splits the elimination tree's independent branches and the
-    /// dense updates of the large supernodes; the result is the same to round-off.
-    pub fn set_threads(&mut self, threads: usize) {
-        let par = if threads <= 1 {
-            Par::Seq
-        } else {
-            Par::rayon(threads)
-        };
-        if par != self.par {
-            self.par = par;
-            self.mem = MemBuffer::new(scratch(&self.symbolic, par));
+    /// Factorize and solve on two threads of rayon's pool when `threads` ≥ 2 (1: sequential):
+    /// the equations split over two halves and their separator ([`SplitCholesky`]), each half
+    /// on its own thread. When the pattern has no fair split, one thread. The result is the
+    /// same to round-off.
+    ///
+    /// `key`, one value per equation (the caller's numbering), places the cut: its median, e.g.
+    /// a coordinate of each equation's node; without it the cut follows the matrix's graph.
+    pub fn set_threads(&mut self, threads: usize, key: Option<&[f64]>) {
+        if threads <= 1 {
+            self.split = None;
+        } else if self.split.is_none() {
+            let key = key.filter(|k| k.len() == self.n).map(|k| {
+                let mut permuted = vec![0.0; self.n];
+                for (i, &v) in k.iter().enumerate() {
+                    permuted[self.new[i]] = v;
+                }
+                permuted
+            });
+            self.split =
+                SplitCholesky::new(&self.col_ptr, &self.row_idx, key.as_deref()).map(Box::new);
         }
+        // One factor's storage at a time: the split's halves, or the whole.
+        let whole = if self.split.is_some() {
+            0
+        } else {
+            self.symbolic.len_val()
+        };
+        self.l_values.resize(whole, 0.0);
+        self.l_values.shrink_to_fit();
+    }
+
+    /// Equations on the separator of the two-thread split, if there is one.
+    pub fn split_separator(&self) -> Option<usize> {
+        self.split.as_ref().map(|s| s.separator_len())
     }
 
     /// Equations.
@@ -259,28 +213,16 @@ impl SparseCholesky {
 
     /// Non-zeros of the Cholesky factor.
     pub fn factor_nnz(&self) -> usize {
-        self.l_values.len()
+        self.symbolic.len_val()
     }
 
     fn factorize(&mut self, values: &[f64]) -> bool {
-        let n = self.n;
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-        let a = SparseColMatRef::new(sym, values);
+        if let Some(split) = self.split.as_mut() {
+            return split.factor(values);
+        }
         let stack = MemStack::new(&mut self.mem);
-        let (symbolic, l_values, par) = (&self.symbolic, &mut self.l_values, self.par);
-        in_pool(par, || {
-            symbolic
-                .factorize_numeric_llt(
-                    l_values,
-                    a,
-                    Side::Lower,
-                    LltRegularization::default(),
-                    par,
-                    stack,
-                    Default::default(),
-                )
-                .is_ok()
-        })
+        let pattern = (&self.col_ptr[..], &self.row_idx[..]);
+        pattern::factorize(&self.symbolic, pattern, values, &mut self.l_values, stack)
     }
 
     /// Factorizes `values`; on a non-positive pivot retries on `K + δ diag(K)` (plus a floor for
@@ -324,14 +266,18 @@ impl SparseCholesky {
         for (i, &v) in rhs.iter().enumerate() {
             self.permuted_rhs[self.new[i]] = v;
         }
+        if let Some(split) = self.split.as_mut() {
+            split.solve_in_place(&mut self.permuted_rhs);
+            for (i, v) in rhs.iter_mut().enumerate() {
+                *v = self.permuted_rhs[self.new[i]];
+            }
+            return;
+        }
         let llt = LltRef::new(&self.symbolic, &self.l_values);
         let stack = MemStack::new(&mut self.mem);
         let n = rhs.len();
         let x = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, n, 1);
-        let par = self.par;
-        in_pool(par, || {
-            llt.solve_in_place_with_conj(Conj::No, x, par, stack)
-        });
+        llt.solve_in_place_with_conj(Conj::No, x, Par::Seq, stack);
         for (i, v) in rhs.iter_mut().enumerate() {
             *v = self.permuted_rhs[self.new[i]];
         }
@@ -383,7 +329,7 @@ mod tests {
         let rhs: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
         let mut one = rhs.clone();
         chol.factor_solve(&values, &mut one).unwrap();
-        chol.set_threads(2);
+        chol.set_threads(2, None);
         let mut two = rhs.clone();
         chol.factor_solve(&values, &mut two).unwrap();
         // K x = b holds for both, and they agree to round-off.
@@ -394,5 +340,102 @@ mod tests {
         assert!(residual < 1e-10, "{residual}");
         let apart = max_abs_difference(&one, &two);
         assert!(apart < 1e-12, "{apart}");
+    }
+
+    /// A membrane-like matrix: an `m × m` grid of nodes with three equations each, every pair
+    /// of equations of a quad's four nodes coupled, symmetric and diagonally dominant. Returns
+    /// the solver, its values and each equation's node's x.
+    fn quad_grid(m: usize) -> (SparseCholesky, Vec<f64>, Vec<f64>) {
+        let node = |i: usize, j: usize| i * m + j;
+        let mut quads = Vec::new();
+        for i in 0..m - 1 {
+            for j in 0..m - 1 {
+                quads.push([
+                    node(i, j),
+                    node(i + 1, j),
+                    node(i + 1, j + 1),
+                    node(i, j + 1),
+                ]);
+            }
+        }
+        let mut pairs = Vec::new();
+        for q in &quads {
+            let dofs: Vec<usize> = q
+                .iter()
+                .flat_map(|&n| (0..3).map(move |a| 3 * n + a))
+                .collect();
+            for &a in &dofs {
+                pairs.extend(dofs.iter().map(|&b| (a, b)));
+            }
+        }
+        let n = 3 * m * m;
+        let chol = SparseCholesky::new(UpperPattern::from_couplings(n, pairs.iter().copied()));
+        let mut values = vec![0.0; chol.nnz()];
+        for &(a, b) in pairs.iter().filter(|(a, b)| a < b) {
+            let v = -0.01 * (1.0 + ((a * 31 + b * 17) % 7) as f64);
+            values[chol.slot(a, b).unwrap()] += v;
+        }
+        for k in 0..n {
+            values[chol.slot(k, k).unwrap()] = 10.0 + (k % 5) as f64;
+        }
+        let x = (0..n).map(|k| ((k / 3) / m) as f64).collect();
+        (chol, values, x)
+    }
+
+    fn solve(chol: &mut SparseCholesky, values: &[f64], rhs: &[f64]) -> Vec<f64> {
+        let mut x = rhs.to_vec();
+        chol.factor_solve(values, &mut x).unwrap();
+        x
+    }
+
+    #[test]
+    fn two_halves_and_their_separator_solve_as_one_factorization_does() {
+        let (mut chol, values, key) = quad_grid(30);
+        let n = chol.n();
+        let rhs: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let one = solve(&mut chol, &values, &rhs);
+        for (key, most) in [(Some(&key[..]), 3 * 30), (None, 6 * 30)] {
+            let (mut split, _, _) = quad_grid(30);
+            split.set_threads(2, key);
+            let ns = split.split_separator().expect("a fair split");
+            // The cut along x is one line of nodes; the graph's level an L across the grid.
+            assert!(ns <= most, "separator of {ns} equations");
+            let two = solve(&mut split, &values, &rhs);
+            // K x = b to round-off, and the same x as one factorization.
+            let mut kx = vec![0.0; n];
+            chol.mul(&values, &two, &mut kx, &mut Vec::new());
+            let residual = kx.iter().zip(&rhs).map(|(a, b)| (a - b).abs());
+            assert!(residual.fold(0.0, f64::max) < 1e-10);
+            let apart = one.iter().zip(&two).map(|(a, b)| (a - b).abs());
+            assert!(apart.fold(0.0, f64::max) < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_matrix_that_is_not_positive_definite_is_shifted_as_by_one_thread() {
+        let (mut chol, mut values, key) = quad_grid(24);
+        // Two equations coupled more strongly than their diagonals hold: indefinite.
+        values[chol.slot(100, 103).unwrap()] = 20.0;
+        let mut rhs = vec![1.0; chol.n()];
+        let one = chol.factor_solve(&values, &mut rhs).unwrap();
+        chol.set_threads(2, Some(&key));
+        assert!(chol.split_separator().is_some());
+        let mut rhs = vec![1.0; chol.n()];
+        let two = chol.factor_solve(&values, &mut rhs).unwrap();
+        assert!(one.shift > 0.0);
+        assert_eq!(one.shift, two.shift);
+    }
+
+    #[test]
+    fn a_small_or_unsplittable_matrix_stays_on_one_thread() {
+        let (mut chol, _, key) = quad_grid(8);
+        chol.set_threads(2, Some(&key));
+        assert_eq!(chol.split_separator(), None);
+        // A dense block: every equation coupled to every other has no small separator.
+        let n = 300;
+        let pairs = (0..n).flat_map(|a| (0..n).map(move |b| (a, b)));
+        let mut dense = SparseCholesky::new(UpperPattern::from_couplings(n, pairs));
+        dense.set_threads(2, None);
+        assert_eq!(dense.split_separator(), None);
     }
 }

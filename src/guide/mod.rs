@@ -19,6 +19,7 @@
 //! - [`findings`]: dated measurements, each with the command that reproduces it.
 //! - [`cost`]: what a finer answer costs and why, measured session by session.
 //! - [`cost_newton`]: where Newton's iterations go, read from `run --newton-trace`.
+//! - [`threads`]: two threads on one design: the factorization split over two halves.
 
 #[doc = include_str!("architecture.md")]
 pub mod architecture {}
@@ -58,6 +59,9 @@ pub mod findings {}
 
 #[doc = include_str!("cost.md")]
 pub mod cost {}
+
+#[doc = include_str!("threads.md")]
+pub mod threads {}
 
 #[doc = include_str!("cost_newton.md")]
 pub mod cost_newton {}

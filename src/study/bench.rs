@@ -272,6 +272,7 @@ fn scaling(deadline_s: f64, box_reps: usize, note: &dyn Fn(&str)) -> Scaling {
     // As `wovenform run` solves one design: on a worker of rayon's pool.
     let mut parallel = paper_box(1.25);
     parallel.solver.parallel = true;
+    parallel.solver.factor_threads = 1;
     let mut factorized = parallel.clone();
     factorized.solver.factor_threads = 0;
     let timed = |p: &crate::core::drawing::DrawingProblem, pooled: bool| {

@@ -101,15 +101,18 @@ pub struct SolverOptions {
     pub keep_slide: bool,
     /// Put the nodes a correction throws into a tool they did not touch onto its surface.
     pub project_trials: bool,
-    /// Assemble elements on rayon's pool (set false inside a parallel sweep if wanted). Best
+    /// Assemble elements on rayon's pool (set false inside a parallel sweep if wanted; with
+    /// `factor_threads` 0 it also decides the factorization's threads). Best
     /// asked for from a worker of the pool (`machine::on_pool`, as `wovenform run` solves): from
     /// outside it, each assembly waits for the pool to wake, which cost the open box at fine
     /// 10 % on a 2-core machine.
     pub parallel: bool,
-    /// Threads of rayon's pool the sparse factorization and its solves may use (1: one; 0: all).
-    /// One by default: on the 2-core machines measured, faer's parallel supernodal Cholesky
-    /// gains nothing at these sizes (the open box at fine: 8.6 s on two threads, 8.5 s on one;
-    /// `bench --scaling` measures it on any machine).
+    /// Threads the sparse factorization and its solves may use: 0 (the default) as many as the
+    /// assembly (rayon's pool when `parallel`, else one), 1 one, 2 or more two. On two, the
+    /// equations are split into two halves of the blank and the line of nodes between them, each
+    /// half factorized on its own thread ([`crate::core::split_cholesky`]): the open box at fine
+    /// ran 1.2–1.3× faster on a 2-core machine (`bench --scaling` measures it on any machine),
+    /// to round-off the same answer (`guide::cost_newton`, "Session fifteen").
     pub factor_threads: u32,
     /// Keep the residual history of each step (for convergence studies).
     pub record_residuals: bool,
@@ -136,7 +139,7 @@ impl Default for SolverOptions {
             keep_slide: true,
             project_trials: true,
             parallel: true,
-            factor_threads: 1,
+            factor_threads: 0,
             record_residuals: false,
         }
     }
@@ -264,10 +267,13 @@ impl<'a> Solver<'a> {
 
     pub fn new(model: &'a mut Model, options: SolverOptions) -> Self {
         let ws = Workspace::new(model, options.parallel);
-        model.linear.set_threads(match options.factor_threads {
-            0 => rayon::current_num_threads(),
+        let threads = match options.factor_threads {
+            0 if options.parallel => rayon::current_num_threads(),
+            0 => 1,
             n => n as usize,
-        });
+        };
+        let key = model.cut_key();
+        model.linear.set_threads(threads, Some(&key));
         Solver {
             model,
             options,

@@ -311,6 +311,23 @@ impl Model {
         self.evaluate_elements_at(&x, tangent, parallel)
     }
 
+    /// Where each free dof's node lies along the blank's longer extent (its reference x or y,
+    /// mm): the median of it cuts the blank in two for the two-thread factorization.
+    pub(super) fn cut_key(&self) -> Vec<f64> {
+        let extent = |a: usize| {
+            let v = self.mesh.nodes.iter().map(|p| p[a]);
+            v.clone().fold(f64::NEG_INFINITY, f64::max) - v.fold(f64::INFINITY, f64::min)
+        };
+        let axis = if extent(0) >= extent(1) { 0 } else { 1 };
+        let mut key = vec![0.0; self.free_dofs()];
+        for (d, &q) in self.eq.iter().enumerate() {
+            if q != usize::MAX {
+                key[q] = self.mesh.nodes[d / 3][axis];
+            }
+        }
+        key
+    }
+
     /// [`Model::evaluate_elements`] at given nodal positions (those of the current
     /// displacements), so a caller that needs them too computes them once.
     pub(super) fn evaluate_elements_at(
