@@ -28,13 +28,6 @@ pub struct SolveInfo {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NotFactorizable;
 
-/// The scratch memory a numeric factorization and a one-column solve need.
-fn scratch(symbolic: &SymbolicCholesky<usize>) -> faer::dyn_stack::StackReq {
-    symbolic
-        .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-        .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
-}
-
 /// A sparse Cholesky solver bound to one pattern.
 ///
 /// The fill-reducing ordering (AMD) is applied once, to the pattern: the matrix is stored as the
@@ -96,7 +89,7 @@ impl SparseCholesky {
             col_ptr.push(row_idx.len());
         }
         let symbolic = pattern::analyse(&col_ptr, &row_idx);
-        let req = scratch(&symbolic);
+        let req = pattern::scratch(&symbolic);
         let l_values = vec![0.0; symbolic.len_val()];
         // The diagonal leads each column of a lower triangle.
         let diag = col_ptr[..n].to_vec();

@@ -101,3 +101,10 @@ pub fn factorize(
         )
         .is_ok()
 }
+
+/// The scratch memory a numeric factorization on `symbolic` and a one-column solve need.
+pub fn scratch(symbolic: &SymbolicCholesky<usize>) -> faer::dyn_stack::StackReq {
+    symbolic
+        .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+        .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
+}

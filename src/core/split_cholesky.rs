@@ -206,7 +206,7 @@ fn amd_order(interior: Vec<usize>, col_ptr: &[usize], row_idx: &[usize]) -> Vec<
             .filter(move |&&r| local[r] != usize::MAX)
             .map(move |&r| (local[r], local[c]))
     });
-    let upper = UpperPattern::from_couplings(ni, pairs.collect::<Vec<_>>().into_iter());
+    let upper = UpperPattern::from_couplings(ni, pairs);
     let (mut perm, mut perm_inv) = (vec![0usize; ni], vec![0usize; ni]);
     let mut mem = MemBuffer::new(amd::order_scratch::<usize>(ni, upper.nnz()));
     let ordered = amd::order(
@@ -231,12 +231,6 @@ fn supernodal<'a>(
         unreachable!("the halves are analysed supernodal")
     };
     SupernodalLltRef::new(sn, l_values)
-}
-
-fn scratch(symbolic: &SymbolicCholesky<usize>) -> faer::dyn_stack::StackReq {
-    symbolic
-        .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-        .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
 }
 
 impl Half {
@@ -274,7 +268,7 @@ impl Half {
         let symbolic = pattern::analyse(&ptr, &rows);
         let ns = separator.len();
         Half {
-            mem: MemBuffer::new(scratch(&symbolic)),
+            mem: MemBuffer::new(pattern::scratch(&symbolic)),
             l_values: vec![0.0; symbolic.len_val()],
             values: vec![0.0; rows.len()],
             interior,
