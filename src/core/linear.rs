@@ -261,16 +261,13 @@ impl SparseCholesky {
         }
         if let Some(split) = self.split.as_mut() {
             split.solve_in_place(&mut self.permuted_rhs);
-            for (i, v) in rhs.iter_mut().enumerate() {
-                *v = self.permuted_rhs[self.new[i]];
-            }
-            return;
+        } else {
+            let llt = LltRef::new(&self.symbolic, &self.l_values);
+            let stack = MemStack::new(&mut self.mem);
+            let n = rhs.len();
+            let x = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, n, 1);
+            llt.solve_in_place_with_conj(Conj::No, x, Par::Seq, stack);
         }
-        let llt = LltRef::new(&self.symbolic, &self.l_values);
-        let stack = MemStack::new(&mut self.mem);
-        let n = rhs.len();
-        let x = MatMut::from_column_major_slice_mut(&mut self.permuted_rhs, n, 1);
-        llt.solve_in_place_with_conj(Conj::No, x, Par::Seq, stack);
         for (i, v) in rhs.iter_mut().enumerate() {
             *v = self.permuted_rhs[self.new[i]];
         }

@@ -148,7 +148,7 @@ fn partition(adj: &[Vec<usize>], key: Option<&[f64]>) -> Option<[Vec<usize>; 3]>
             && share(&parts[1]) >= HALF_SHARE;
         fair.then_some(parts)
     };
-    let by_key = key.filter(|k| k.len() == n && n > 0).map(|key| {
+    let by_key = key.map(|key| {
         let mut sorted = key.to_vec();
         sorted.sort_by(f64::total_cmp);
         let median = sorted[n / 2];
@@ -402,6 +402,7 @@ impl SplitCholesky {
         if n < MIN_EQUATIONS {
             return None;
         }
+        let key = key.filter(|k| k.len() == n);
         let [first, second, separator] = partition(&adjacency(n, col_ptr, row_idx), key)?;
         let ns = separator.len();
         let mut place = vec![usize::MAX; n];

@@ -272,8 +272,8 @@ impl<'a> Solver<'a> {
             0 => 1,
             n => n as usize,
         };
-        let key = model.cut_key();
-        model.linear.set_threads(threads, Some(&key));
+        let key = (threads > 1).then(|| model.cut_key());
+        model.linear.set_threads(threads, key.as_deref());
         Solver {
             model,
             options,
