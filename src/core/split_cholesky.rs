@@ -437,6 +437,13 @@ impl SplitCholesky {
         self.separator.len()
     }
 
+    /// Entries stored for the factorization: the halves' sparse factors, and five dense
+    /// blocks on the separator (each half's `Lᵢ,ₛₛ` and `Sᵢ`, and `S`).
+    pub fn factor_entries(&self) -> usize {
+        let halves: usize = self.halves.iter().map(|h| h.l_values.len()).sum();
+        halves + 5 * self.separator.len() * self.separator.len()
+    }
+
     /// Factorizes the matrix stored in `values` (the caller's lower triangle); false when it is
     /// not positive definite.
     pub fn factor(&mut self, values: &[f64]) -> bool {

@@ -11,7 +11,8 @@ pub struct SizeEstimate {
     /// Degrees of freedom of the solved part (before the symmetry planes take a few out).
     pub dofs: f64,
     /// Entries of the sparse Cholesky factor (measured on the yarn grids, AMD-ordered: about
-    /// `12 n (log₂ n − 5.45)` for `n` dofs, within 15 % from 3,600 to 61,000 dofs).
+    /// `12 n (log₂ n − 5.45)` for `n` dofs, within 15 % from 3,600 to 61,000 dofs), times
+    /// [`SPLIT_FILL`] when it is factorized on two threads.
     pub factor_entries: f64,
     /// Peak memory of the solve, bytes.
     pub bytes: f64,
@@ -26,6 +27,10 @@ const BYTES_PER_FACTOR_ENTRY: f64 = 12.0;
 /// The fill of AMD on the yarn grid: `FILL n (log₂ n − FILL_OFFSET)` factor entries.
 const FILL: f64 = 12.0;
 const FILL_OFFSET: f64 = 5.45;
+/// The factor entries of the two-thread factorization over the whole factor's: its halves
+/// (each AMD-ordered on its own) and the separator's five dense blocks (measured 1.29–1.35
+/// on the box from 3,600 to 40,000 dofs).
+const SPLIT_FILL: f64 = 1.3;
 
 impl DrawingProblem {
     /// The size of this drawing's model, computed from its numbers alone (floating point, so
@@ -38,7 +43,10 @@ impl DrawingProblem {
         let elements = n1 * n2;
         let nodes = (n1 + 1.0) * (n2 + 1.0);
         let dofs = 3.0 * nodes;
-        let factor_entries = FILL * dofs * (dofs.max(2.0).log2() - FILL_OFFSET).max(2.0);
+        let mut factor_entries = FILL * dofs * (dofs.max(2.0).log2() - FILL_OFFSET).max(2.0);
+        if self.solver.factorization_threads() > 1 {
+            factor_entries *= SPLIT_FILL;
+        }
         let bytes = BYTES_PER_ELEMENT * elements
             + BYTES_PER_NODE * nodes
             + BYTES_PER_FACTOR_ENTRY * factor_entries;

@@ -118,6 +118,17 @@ pub struct SolverOptions {
     pub record_residuals: bool,
 }
 
+impl SolverOptions {
+    /// The threads the factorization will use ([`SolverOptions::factor_threads`] resolved).
+    pub fn factorization_threads(&self) -> usize {
+        match self.factor_threads {
+            0 if self.parallel => rayon::current_num_threads(),
+            0 => 1,
+            n => n as usize,
+        }
+    }
+}
+
 impl Default for SolverOptions {
     fn default() -> Self {
         SolverOptions {
@@ -267,11 +278,7 @@ impl<'a> Solver<'a> {
 
     pub fn new(model: &'a mut Model, options: SolverOptions) -> Self {
         let ws = Workspace::new(model, options.parallel);
-        let threads = match options.factor_threads {
-            0 if options.parallel => rayon::current_num_threads(),
-            0 => 1,
-            n => n as usize,
-        };
+        let threads = options.factorization_threads();
         let key = (threads > 1).then(|| model.cut_key());
         model.linear.set_threads(threads, key.as_deref());
         Solver {
