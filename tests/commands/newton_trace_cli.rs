@@ -102,14 +102,26 @@ fn the_trace_has_a_row_per_iteration_and_leaves_the_run_alone() {
             assert!((0.0..=1.0).contains(&field(r, length)), "{r:?}");
         }
     }
-    // Each step ends far below where it began: Newton converged on every one.
-    for step in 1..=ends.len() {
-        let of: Vec<f64> = rows
-            .iter()
-            .filter(|r| r[0] == step.to_string())
-            .map(|r| field(r, residual))
-            .collect();
-        assert!(of.last().unwrap() < &(of[0] * 1e-3), "step {step}: {of:?}");
+    // Each step ends far below where it began, or far below the run's load (the first step's
+    // residual, the punch meeting the blank): Newton converged on every one. The solver's
+    // tolerance is relative to the load, so a step that starts close to its balance (a few N
+    // against the first step's 10⁴) may end at a thousandth of its start only.
+    let steps: Vec<Vec<f64>> = (1..=ends.len())
+        .map(|step| {
+            rows.iter()
+                .filter(|r| r[0] == step.to_string())
+                .map(|r| field(r, residual))
+                .collect()
+        })
+        .collect();
+    let load = steps.iter().map(|of| of[0]).fold(0.0, f64::max);
+    for (step, of) in steps.iter().enumerate() {
+        let last = *of.last().unwrap();
+        assert!(
+            last < of[0] * 1e-3 || last < load * 1e-5,
+            "step {}: {of:?}",
+            step + 1
+        );
     }
 
     let png = traced.join("newton_trace.png");

@@ -314,7 +314,8 @@ impl Solver<'_> {
     }
 
     /// The Newton correction from the assembled tangent, damped by the pseudo-transient
-    /// stabilisation (fading with the residual) and the Levenberg–Marquardt part, with each
+    /// stabilisation (fading with the square of the residual's fall since the step's first
+    /// iteration, so that it is gone from the quadratic tail) and the Levenberg–Marquardt part, with each
     /// node's contact at load `lambda` solved in it ([`Solver::reshape`]).
     fn correction(
         &mut self,
@@ -325,7 +326,8 @@ impl Solver<'_> {
         progress: &mut Progress,
     ) -> Result<Correction, NewtonError> {
         let r0 = *progress.first_residual.get_or_insert(rn);
-        let damping = self.options.stabilisation * (rn / r0).min(1.0) + self.levenberg;
+        let fade = (rn / r0).min(1.0);
+        let damping = self.options.stabilisation * fade * fade + self.levenberg;
         progress.damping = damping;
         self.ws.add_damping(self.model, damping);
         if !self.options.exact_jacobian {
