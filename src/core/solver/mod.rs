@@ -12,9 +12,10 @@
 //! The paper's fabric has no in-plane shear stiffness and no bending stiffness, so parts of a
 //! sheet can be mechanisms. The Newton corrections are stabilised by a pseudo-transient term:
 //! `δ · (C̄/L̄0) · cells(node)` on the diagonal of the tangent, `δ = κ (‖r‖/‖r₀‖)²` (κ the
-//! `stabilisation`, `r₀` the step's first residual) plus a Levenberg–Marquardt part that grows when the line search has to cut
-//! hard. It damps the corrections only: the residual is the model's own, so a converged state
-//! carries no stabilisation force and the answer does not depend on κ.
+//! `stabilisation`, `r₀` the step's first residual) plus a Levenberg–Marquardt part that grows
+//! when the line search has to cut hard. It damps the corrections only: the residual is the
+//! model's own, so a converged state carries no stabilisation force and the answer does not
+//! depend on κ.
 
 mod assembly;
 mod correction;

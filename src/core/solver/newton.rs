@@ -315,8 +315,8 @@ impl Solver<'_> {
 
     /// The Newton correction from the assembled tangent, damped by the pseudo-transient
     /// stabilisation (fading with the square of the residual's fall since the step's first
-    /// iteration, so that it is gone from the quadratic tail) and the Levenberg–Marquardt part, with each
-    /// node's contact at load `lambda` solved in it ([`Solver::reshape`]).
+    /// iteration, so that it is gone from the quadratic tail) and the Levenberg–Marquardt part,
+    /// with each node's contact at load `lambda` solved in it ([`Solver::reshape`]).
     fn correction(
         &mut self,
         a: &Assembly,
