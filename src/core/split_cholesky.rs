@@ -440,8 +440,11 @@ impl SplitCholesky {
     /// Entries stored for the factorization: the halves' sparse factors, and five dense
     /// blocks on the separator (each half's `Lᵢ,ₛₛ` and `Sᵢ`, and `S`).
     pub fn factor_entries(&self) -> usize {
-        let halves: usize = self.halves.iter().map(|h| h.l_values.len()).sum();
-        halves + 5 * self.separator.len() * self.separator.len()
+        let entries = |m: &Mat<f64>| m.nrows() * m.ncols();
+        let halves: usize = (self.halves.iter())
+            .map(|h| h.l_values.len() + entries(&h.schur) + entries(&h.l_ss))
+            .sum();
+        halves + entries(&self.schur)
     }
 
     /// Factorizes the matrix stored in `values` (the caller's lower triangle); false when it is
