@@ -19,6 +19,7 @@ mod contact_balance;
 mod contact_checks;
 mod developed_view;
 mod double_dome_tools;
+mod drape_predictor;
 mod drawing_checks;
 mod element_checks;
 mod ellipsoid_undulation;

@@ -437,6 +437,25 @@ impl NodalTerms for Contact {
         self.project_predicted(lambda, x, keep_slide);
     }
 
+    fn carried_at_start(&self, lambda: f64) -> Vec<Option<f64>> {
+        let n = self.area.len();
+        let delta = self.options.contact_smoothing;
+        let mut carried: Vec<Option<f64>> = vec![None; n];
+        for t in 0..self.tools.len() {
+            let travel = self.tools[t].travel(self.lambda_start, lambda);
+            for &i in &self.active[t] {
+                let i = i as usize;
+                if self.pairs[t * n + i].d_start < delta {
+                    carried[i] = match carried[i] {
+                        Some(v) if v == 0.0 => Some(v),
+                        _ => Some(travel),
+                    };
+                }
+            }
+        }
+        carried
+    }
+
     fn project_trial(&self, lambda: f64, x_base: &[[f64; 3]], x: &mut [[f64; 3]]) {
         let delta = self.options.contact_smoothing;
         for t in 0..self.tools.len() {

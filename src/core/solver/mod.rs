@@ -19,6 +19,7 @@
 
 mod assembly;
 mod correction;
+mod drape;
 mod line_search;
 mod model;
 mod newton;
@@ -102,6 +103,12 @@ pub struct SolverOptions {
     /// its neighbour on the flat, and the yarn between them went slack (`guide::cost_newton`,
     /// "Session twelve"). On by default.
     pub keep_slide: bool,
+    /// A step with no secant to start from (the first, or the retry after a cut) starts with
+    /// the nodes the tools touched moved with their tool and the rest draped harmonically
+    /// between them (`drape`); off, the start state is only projected onto the tools. On by
+    /// default: the first step of each design on the paper's grid took 9 iterations instead of
+    /// 11–17 (`guide::cost_newton`, "Session seventeen").
+    pub drape_predictor: bool,
     /// Put the nodes a correction throws into a tool they did not touch onto its surface.
     pub project_trials: bool,
     /// Assemble elements on rayon's pool (set false inside a parallel sweep if wanted; with
@@ -151,6 +158,7 @@ impl Default for SolverOptions {
             max_lag_passes: 20,
             project_predictor: true,
             keep_slide: true,
+            drape_predictor: true,
             project_trials: true,
             parallel: true,
             factor_threads: 0,

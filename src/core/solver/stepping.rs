@@ -182,7 +182,9 @@ impl Solver<'_> {
             self.predict((target - lambda) / dl, du);
         }
         self.apply_prescribed(target, prescribed);
-        if self.options.project_predictor {
+        if self.options.project_predictor && self.options.drape_predictor && previous.is_none() {
+            self.drape(target, terms);
+        } else if self.options.project_predictor {
             let mut x = self.model.positions();
             terms.project(target, &mut x, self.options.keep_slide);
             self.model.set_free_positions(&x);

@@ -70,6 +70,13 @@ pub trait NodalTerms: Sync {
     /// start touch it again, and none starts inside a tool; with `keep_slide`, a node that slid
     /// on a tool at rest keeps the distance it slid in the prediction.
     fn project(&self, _lambda: f64, _x: &mut [[f64; 3]], _keep_slide: bool) {}
+    /// For each node a tool touched at the step's start (within its eased gap), that tool's
+    /// translation along z from the step's start to `lambda`, mm (0 for a tool at rest; a node
+    /// touching one at rest and one moving is held by the one at rest); `None` for the others.
+    /// Empty when no term touches.
+    fn carried_at_start(&self, _lambda: f64) -> Vec<Option<f64>> {
+        Vec::new()
+    }
     /// Moves a trial state `x` of the line search (from the base `x_base`) so that no node that
     /// a tool did not press at the base starts deep inside one: such a node has no contact
     /// stiffness in the correction, which may throw it far into the tool. It is put on the
