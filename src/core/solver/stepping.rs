@@ -1,5 +1,6 @@
 //! The load path: steps from `λ = 0` to `λ = 1`, each started from a secant predictor moved
-//! back onto the tools, grown while Newton converges fast and cut back when it does not.
+//! back onto the tools (a step with no secant, from the drape: [`super::drape`]), grown while
+//! Newton converges fast and cut back when it does not.
 
 use std::ops::ControlFlow;
 
