@@ -107,7 +107,7 @@ pub struct SolverOptions {
     /// the nodes the tools touched moved with their tool and the rest draped harmonically
     /// between them (`drape`); off, the start state is only projected onto the tools. On by
     /// default: the first step of each design on the paper's grid took 9 iterations instead of
-    /// 11–17 (`guide::cost_newton`, "Session seventeen").
+    /// 11–15 (`guide::cost_newton`, "Session seventeen").
     pub drape_predictor: bool,
     /// Put the nodes a correction throws into a tool they did not touch onto its surface.
     pub project_trials: bool,
