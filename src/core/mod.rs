@@ -10,6 +10,7 @@ pub mod bending;
 pub mod bias;
 pub mod bias_wrinkle;
 pub mod cantilever;
+pub mod conjugate;
 pub mod contact;
 pub mod drawing;
 pub mod element;

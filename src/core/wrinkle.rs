@@ -110,41 +110,13 @@ fn reference(
     x: &[[f64; 3]],
     anchored: &[bool],
 ) -> Vec<[f64; 3]> {
-    let n = x.len();
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
     let mut reference = x.to_vec();
     for m in 0..3 {
         let mut u: Vec<f64> = x.iter().map(|p| p[m]).collect();
-        let mut r = vec![0.0; n];
-        apply(kind, lines, anchored, &u, &mut r);
-        r.iter_mut().for_each(|v| *v = -*v);
-        let mut p = r.clone();
-        let mut rr = dot(&r, &r);
-        let r0 = rr.sqrt();
-        let mut kp = vec![0.0; n];
-        for _ in 0..20_000 {
-            if rr.sqrt() <= 1e-10 * r0 || rr == 0.0 {
-                break;
-            }
-            apply(kind, lines, anchored, &p, &mut kp);
-            let pkp = dot(&p, &kp);
-            if pkp <= 0.0 {
-                break;
-            }
-            let alpha = rr / pkp;
-            for i in 0..n {
-                u[i] += alpha * p[i];
-                r[i] -= alpha * kp[i];
-            }
-            let rr_new = dot(&r, &r);
-            let beta = rr_new / rr;
-            rr = rr_new;
-            for i in 0..n {
-                p[i] = r[i] + beta * p[i];
-            }
-        }
-        for i in 0..n {
-            reference[i][m] = u[i];
+        let operator = |v: &[f64], out: &mut [f64]| apply(kind, lines, anchored, v, out);
+        crate::core::conjugate::relax_free(operator, &mut u, 1e-10, 0.0, 20_000);
+        for (r, ui) in reference.iter_mut().zip(u) {
+            r[m] = ui;
         }
     }
     reference

@@ -106,35 +106,8 @@ pub(super) fn harmonic(neighbours: &[Vec<usize>], free: &[bool], moved: &[f64]) 
             };
         }
     };
-    let mut r = vec![0.0; n];
-    laplacian(&v, &mut r);
-    r.iter_mut().for_each(|ri| *ri = -*ri);
-    // The search direction is zero at the held nodes, so the Laplacian sees the free part.
-    let mut p = r.clone();
-    let mut lp = vec![0.0; n];
-    let mut rr: f64 = r.iter().map(|a| a * a).sum();
-    let stop = (DRAPE_TOLERANCE * scale).powi(2);
-    for _ in 0..n {
-        if rr <= stop {
-            break;
-        }
-        laplacian(&p, &mut lp);
-        let plp: f64 = p.iter().zip(&lp).map(|(a, b)| a * b).sum();
-        if plp <= 0.0 {
-            break;
-        }
-        let alpha = rr / plp;
-        for i in 0..n {
-            v[i] += alpha * p[i];
-            r[i] -= alpha * lp[i];
-        }
-        let next: f64 = r.iter().map(|a| a * a).sum();
-        let beta = next / rr;
-        rr = next;
-        for i in 0..n {
-            p[i] = r[i] + beta * p[i];
-        }
-    }
+    let absolute = DRAPE_TOLERANCE * scale;
+    crate::core::conjugate::relax_free(laplacian, &mut v, 0.0, absolute, n);
     v
 }
 
