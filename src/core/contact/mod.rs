@@ -445,11 +445,9 @@ impl NodalTerms for Contact {
             let travel = self.tools[t].travel(self.lambda_start, lambda);
             for &i in &self.active[t] {
                 let i = i as usize;
-                if self.pairs[t * n + i].d_start < delta {
-                    carried[i] = match carried[i] {
-                        Some(v) if v == 0.0 => Some(v),
-                        _ => Some(travel),
-                    };
+                // A node a tool at rest holds stays held by it.
+                if self.pairs[t * n + i].d_start < delta && carried[i] != Some(0.0) {
+                    carried[i] = Some(travel);
                 }
             }
         }

@@ -186,9 +186,7 @@ impl Solver<'_> {
         if self.options.project_predictor && self.options.drape_predictor && previous.is_none() {
             self.drape(target, terms);
         } else if self.options.project_predictor {
-            let mut x = self.model.positions();
-            terms.project(target, &mut x, self.options.keep_slide);
-            self.model.set_free_positions(&x);
+            self.project_onto_tools(target, terms);
         }
         // A membrane step starts where the last one's first correction was taken: the mid-side
         // flange panels, hanging on sliding friction past a slack radial yarn, are a mechanism
@@ -213,6 +211,13 @@ impl Solver<'_> {
             }
         }
         Ok(iterations)
+    }
+
+    /// Moves the predicted state back onto the tools at load `lambda` ([`NodalTerms::project`]).
+    pub(super) fn project_onto_tools(&mut self, lambda: f64, terms: &dyn NodalTerms) {
+        let mut x = self.model.positions();
+        terms.project(lambda, &mut x, self.options.keep_slide);
+        self.model.set_free_positions(&x);
     }
 
     /// Takes a converged step: the counters, the work its unbalanced residual did, the
