@@ -105,7 +105,10 @@ fn the_trace_has_a_row_per_iteration_and_leaves_the_run_alone() {
     // Each step ends far below where it began, or far below the run's load (the first step's
     // residual, the punch meeting the blank): Newton converged on every one. The solver's
     // tolerance is relative to the load, so a step that starts close to its balance (a few N
-    // against the first step's 10⁴) may end at a thousandth of its start only.
+    // against the first step's 10⁴) may end at a thousandth of its start only; and the
+    // decrement test ends a step within a thousand force tolerances (10⁻³ of the forces) once
+    // its last correction releases at most 10⁻³ of the energy the step stored, which on this
+    // run is up to 10⁻⁴ of the load (step 15 on 2026-12-07: 224.7 → 0.27 N, the load 2.5·10⁴ N).
     let steps: Vec<Vec<f64>> = (1..=ends.len())
         .map(|step| {
             rows.iter()
@@ -118,7 +121,7 @@ fn the_trace_has_a_row_per_iteration_and_leaves_the_run_alone() {
     for (step, of) in steps.iter().enumerate() {
         let last = *of.last().unwrap();
         assert!(
-            last < of[0] * 1e-3 || last < load * 1e-5,
+            last < of[0] * 1e-3 || last < load * 1e-4,
             "step {}: {of:?}",
             step + 1
         );

@@ -10,6 +10,10 @@
 //!   standard level's band (0.12° of shear, 0.5 % of the punch force, 3.5 % of the max
 //!   tension).
 //!
+//! - A node on a symmetry plane (one dof held) in a tool's gap whose normal lies in the plane:
+//!   balanced as the same node free in every direction, to the bisection's root; a node whose
+//!   normal has a share along its held dof is left as the correction put it.
+//!
 //! And the predictor's projection that keeps the distance a node slid on a tool at rest
 //! (`SolverOptions::keep_slide`): on the die's entry radius, a node slid along its tangent and
 //! put back along the normal falls short by the circle's closed form; kept, it slides the whole
@@ -17,7 +21,7 @@
 
 use wovenform::core::contact::{Contact, ContactOptions, ToolMotion, normal};
 use wovenform::core::drawing::{self, DrawingResult};
-use wovenform::core::solver::NodalTerms;
+use wovenform::core::solver::{NodalTerms, OwnStiffness};
 use wovenform::core::tools::Tool;
 
 use crate::common;
@@ -59,6 +63,85 @@ fn a_node_balance_matches_a_bisection_on_each_piece_of_the_penalty() {
     }
     // A load pulling a node off the tool, nothing else holding it: no bounded move.
     assert_eq!(normal::balancing_move(k, delta, 0.03, -1.0, 0.0), None);
+}
+
+/// The penalty (N/mm) and eased gap (mm) of [`reshaped_on_the_radius`].
+const PENALTY: f64 = 2.0e4;
+const GAP: f64 = 0.025;
+
+/// One node `depth` mm into the eased gap of a die's entry radius (rm 5 mm, the die at rest),
+/// in the plane y = 0, where the radius's outward normal `n` lies in that plane. A correction
+/// moved it `s_lin` mm along `n`; it is reshaped with the own stiffness `k_rest + φ'' n nᵀ`
+/// (the tangent's block: the rest and the penalty's share) on its `free` dofs. Returns its
+/// move along `n` after the reshape (`None`: left alone) and `n`.
+fn reshaped_on_the_radius(
+    depth: f64,
+    s_lin: f64,
+    k_rest: [[f64; 3]; 3],
+    free: [bool; 3],
+) -> (Option<f64>, [f64; 3]) {
+    let die = ToolMotion {
+        tool: Tool::elliptic_die([30.0, 30.0], 1.5, 5.0),
+        tip_start: 0.0,
+        stroke: 0.0,
+    };
+    let options = ContactOptions {
+        friction: 0.0,
+        slip_regularisation: 0.025,
+        penalty_factor: 1.0,
+        contact_smoothing: GAP,
+        lagged: false,
+    };
+    let mut contact = Contact::new(vec![die], None, options, vec![6.25], &[PENALTY], 1.0, 5.0);
+    let (centre, phi) = ([36.5, 0.0, -5.0], 0.4f64);
+    let n = [-phi.sin(), 0.0, phi.cos()];
+    let r = 5.0 + GAP - depth;
+    let at = [centre[0] + r * n[0], 0.0, centre[2] + r * n[2]];
+    contact.begin_step(0.25, 0.3, &[at]);
+    let slope = normal::law(PENALTY, GAP, GAP - depth).1;
+    let mut k = k_rest;
+    for a in 0..3 {
+        for b in 0..3 {
+            k[a][b] += slope * n[a] * n[b];
+            if !free[a] || !free[b] {
+                k[a][b] = 0.0;
+            }
+        }
+    }
+    let mut du = [n.map(|v| v * s_lin)];
+    let own = |_: usize| Some(OwnStiffness { k, free });
+    let moved = contact.reshape(0.3, &[at], &mut du, &own);
+    let along = (0..3).map(|m| du[0][m] * n[m]).sum::<f64>();
+    (moved.then_some(along), n)
+}
+
+#[test]
+fn a_node_on_a_symmetry_plane_is_balanced_as_a_free_one() {
+    // The rest of its own stiffness, N/mm: y's row and column are the free node's only.
+    let k_rest = [[200.0, 15.0, 40.0], [15.0, 90.0, -7.0], [40.0, -7.0, 300.0]];
+    for (depth, s_lin) in [(0.02, -0.03), (0.005, 0.01), (0.012, -0.004)] {
+        let (free, n) = reshaped_on_the_radius(depth, s_lin, k_rest, [true; 3]);
+        let (held, _) = reshaped_on_the_radius(depth, s_lin, k_rest, [true, false, true]);
+        let free = free.expect("a free node in the gap is balanced");
+        let held = held.expect("a held node whose normal lies in its free plane is balanced");
+        assert!((free - held).abs() < 1e-12, "{free} against {held}");
+        // Its own balance along n, `p(y0 − s) = g + K s`: K the rest's stiffness along n, g
+        // the load the linear correction left on it.
+        let other: f64 = (0..3)
+            .map(|a| n[a] * (0..3).map(|b| k_rest[a][b] * n[b]).sum::<f64>())
+            .sum();
+        let (p0, slope, _) = normal::law(PENALTY, GAP, GAP - depth);
+        let g = p0 - (slope + other) * s_lin;
+        let expected = bisect(PENALTY, GAP, depth, g, other);
+        assert!(
+            (held - expected).abs() < 1e-9,
+            "depth {depth}, s_lin {s_lin}: {held} against {expected}"
+        );
+        assert!((held - s_lin).abs() > 1e-4, "the balance moved it: {held}");
+    }
+    // Held along x, where the radius's normal has a share (−sin 0.4): left as it was.
+    let (left, _) = reshaped_on_the_radius(0.005, 0.01, k_rest, [false, true, true]);
+    assert_eq!(left, None);
 }
 
 fn run(reshape: bool, keep_slide: bool) -> DrawingResult {

@@ -7,6 +7,10 @@
 use super::{Contact, dot, normal, unit_normal};
 use crate::core::solver::NodeStiffness;
 
+/// The largest component of a tool's unit normal along a node's prescribed dof for which the
+/// node is still balanced along the normal (the component is then dropped).
+const HELD_NORMAL: f64 = 1e-9;
+
 /// `aᵀ K b`.
 fn quad(k: &[[f64; 3]; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3)
@@ -41,6 +45,13 @@ impl Contact {
                 }
                 seen[i] += 1;
                 let Some(own) = stiffness(i) else { continue };
+                // A node held in some direction (on a symmetry plane) moves along the normal
+                // when the normal lies in its free directions, as a symmetric tool's does there.
+                if (0..3).any(|a| !own.free[a] && n[a].abs() > HELD_NORMAL) {
+                    continue;
+                }
+                let n = [0, 1, 2].map(|a| if own.free[a] { n[a] } else { 0.0 });
+                let own = own.k;
                 let k = self.penalty[i];
                 let (p0, slope, _) = normal::law(k, delta, dist.d);
                 let other = (quad(&own, n, n) - slope * dot(dist.n, n).powi(2)).max(0.0);

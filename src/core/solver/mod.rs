@@ -33,8 +33,8 @@ pub use newton::NewtonError;
 pub use site::ResidualSite;
 pub use stepping::Failure;
 pub use terms::{
-    LinearPrescribed, NoNodalTerms, NodalSums, NodalTerms, NodeBlock, NodeStiffness, Prescribed,
-    RankOne,
+    LinearPrescribed, NoNodalTerms, NodalSums, NodalTerms, NodeBlock, NodeStiffness, OwnStiffness,
+    Prescribed, RankOne,
 };
 
 use assembly::Workspace;

@@ -13,7 +13,7 @@
 
 use super::Solver;
 use super::correction::Correction;
-use super::terms::NodalTerms;
+use super::terms::{NodalTerms, OwnStiffness};
 
 impl Solver<'_> {
     /// Correction `c`, solved at residual `r` and load `lambda`, reshaped by the nodal terms'
@@ -40,19 +40,19 @@ impl Solver<'_> {
             }
         }
         let values = &self.ws.values;
-        let stiffness = |i: usize| -> Option<[[f64; 3]; 3]> {
+        let stiffness = |i: usize| -> Option<OwnStiffness> {
             let slots = &model.node_slots[i];
+            let free = [0, 1, 2].map(|a| slots[4 * a] != u32::MAX);
             let mut k = [[0.0; 3]; 3];
             for a in 0..3 {
                 for b in 0..3 {
                     let s = slots[3 * a + b];
-                    if s == u32::MAX {
-                        return None;
+                    if s != u32::MAX {
+                        k[a][b] = values[s as usize];
                     }
-                    k[a][b] = values[s as usize];
                 }
             }
-            Some(k)
+            free.contains(&true).then_some(OwnStiffness { k, free })
         };
         if !terms.reshape(lambda, &x, &mut du, &stiffness) {
             return c;

@@ -42,9 +42,18 @@ pub struct RankOne {
     pub total: f64,
 }
 
-/// Node `i`'s own 3×3 block of the factorized tangent, `K_ii` (N/mm; `None` when a dof of the
-/// node is prescribed): what [`NodalTerms::reshape`] holds the rest of a node's load to.
-pub type NodeStiffness<'a> = &'a dyn Fn(usize) -> Option<[[f64; 3]; 3]>;
+/// A node's own 3×3 block of the factorized tangent, `K_ii` (N/mm), over its free dofs: the
+/// rows and columns of a prescribed dof (a symmetry plane's normal, a clamp) are zero and
+/// `free` says which they are.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OwnStiffness {
+    pub k: [[f64; 3]; 3],
+    pub free: [bool; 3],
+}
+
+/// Node `i`'s [`OwnStiffness`] (`None` when all its dofs are prescribed): what
+/// [`NodalTerms::reshape`] holds the rest of a node's load to.
+pub type NodeStiffness<'a> = &'a dyn Fn(usize) -> Option<OwnStiffness>;
 
 /// What [`NodalTerms::add`] returns besides the forces.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
