@@ -69,17 +69,9 @@ fn a_node_balance_matches_a_bisection_on_each_piece_of_the_penalty() {
 const PENALTY: f64 = 2.0e4;
 const GAP: f64 = 0.025;
 
-/// One node `depth` mm into the eased gap of a die's entry radius (rm 5 mm, the die at rest),
-/// in the plane y = 0, where the radius's outward normal `n` lies in that plane. A correction
-/// moved it `s_lin` mm along `n`; it is reshaped with the own stiffness `k_rest + φ'' n nᵀ`
-/// (the tangent's block: the rest and the penalty's share) on its `free` dofs. Returns its
-/// move along `n` after the reshape (`None`: left alone) and `n`.
-fn reshaped_on_the_radius(
-    depth: f64,
-    s_lin: f64,
-    k_rest: [[f64; 3]; 3],
-    free: [bool; 3],
-) -> (Option<f64>, [f64; 3]) {
+/// One node's contact with a die at rest whose entry radius is 5 mm (30 × 30 mm opening,
+/// 1.5 mm clearance), frictionless, penalty [`PENALTY`] and eased gap [`GAP`].
+fn die_radius() -> Contact {
     let die = ToolMotion {
         tool: Tool::elliptic_die([30.0, 30.0], 1.5, 5.0),
         tip_start: 0.0,
@@ -92,7 +84,21 @@ fn reshaped_on_the_radius(
         contact_smoothing: GAP,
         lagged: false,
     };
-    let mut contact = Contact::new(vec![die], None, options, vec![6.25], &[PENALTY], 1.0, 5.0);
+    Contact::new(vec![die], None, options, vec![6.25], &[PENALTY], 1.0, 5.0)
+}
+
+/// One node `depth` mm into the eased gap of a die's entry radius (rm 5 mm, the die at rest),
+/// in the plane y = 0, where the radius's outward normal `n` lies in that plane. A correction
+/// moved it `s_lin` mm along `n`; it is reshaped with the own stiffness `k_rest + φ'' n nᵀ`
+/// (the tangent's block: the rest and the penalty's share) on its `free` dofs. Returns its
+/// move along `n` after the reshape (`None`: left alone) and `n`.
+fn reshaped_on_the_radius(
+    depth: f64,
+    s_lin: f64,
+    k_rest: [[f64; 3]; 3],
+    free: [bool; 3],
+) -> (Option<f64>, [f64; 3]) {
+    let mut contact = die_radius();
     let (centre, phi) = ([36.5, 0.0, -5.0], 0.4f64);
     let n = [-phi.sin(), 0.0, phi.cos()];
     let r = 5.0 + GAP - depth;
@@ -174,19 +180,7 @@ fn the_node_balance_saves_iterations_and_moves_no_figure_on_a_box() {
 /// A node on the die's entry radius (rm 5 mm, the die at rest), `sink` inside it, slid `slide`
 /// mm along the radius's tangent towards the cavity and put back: its start and where it ends.
 fn slid_on_the_radius(slide: f64, sink: f64, keep_slide: bool) -> ([f64; 3], [f64; 3]) {
-    let die = ToolMotion {
-        tool: Tool::elliptic_die([30.0, 30.0], 1.5, 5.0),
-        tip_start: 0.0,
-        stroke: 0.0,
-    };
-    let options = ContactOptions {
-        friction: 0.0,
-        slip_regularisation: 0.025,
-        penalty_factor: 1.0,
-        contact_smoothing: 0.025,
-        lagged: false,
-    };
-    let mut contact = Contact::new(vec![die], None, options, vec![6.25], &[2.0e4], 1.0, 5.0);
+    let mut contact = die_radius();
     let (centre, theta) = ([36.5, 0.0, -5.0], 0.4f64);
     let r = 5.0 - sink;
     let start = [
