@@ -3,10 +3,12 @@
 //! - [`write_atomic`] writes through a temporary file in the destination's folder and a
 //!   rename: an interrupted or failed write (a full disk, a killed process) leaves the old
 //!   file as it was, or no file, never half a file or a 0-byte one.
+//! - [`claim_folder`] makes a folder wovenform's before any work: a new or empty one is
+//!   marked with [`FOLDER_MARKER`]; one that holds files and no marker is the user's, and
+//!   nothing is written there. One rule for every file of every command.
 //! - [`check_outputs`] refuses, before any work, a set of outputs of which one is a file the
 //!   command reads (the scene, a measured curve, a tool's STL: compared as files, through
-//!   links and relative paths), or an existing file that wovenform did not write in a kind a
-//!   person keeps as input (see [`Output::owned_if`]).
+//!   links and relative paths), and keeps those inputs from any later write of the process.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -80,6 +82,13 @@ pub fn write_atomic_with(
     path: &Path,
     fill: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
 ) -> std::io::Result<()> {
+    if let Some(input) = protected_at(path) {
+        return Err(std::io::Error::other(format!(
+            "it is {} {}, which this command reads: not overwritten",
+            input.what,
+            input.path.display()
+        )));
+    }
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
     let mut tmp = tempfile::NamedTempFile::new_in(dir.unwrap_or(Path::new(".")))?;
     fill(tmp.as_file_mut())?;
@@ -149,34 +158,14 @@ impl Input {
     }
 }
 
-/// A file a command will write.
-#[derive(Clone, Debug)]
-pub struct Output {
-    pub path: PathBuf,
-    /// For kinds a person keeps as input (TOML, CSV, STL): the first bytes every file of this
-    /// kind that wovenform writes begins with. An existing file that does not begin so is the
-    /// user's, and is not replaced. `None`: any existing file may be replaced (a picture, a
-    /// result the command owns).
-    pub owned_if: Option<&'static [u8]>,
-}
+/// The file that marks a folder as wovenform's output folder: written into a folder when a
+/// command first writes there (a new or empty one). Files in a marked folder may be replaced
+/// by a later command; a folder that holds anything else is not written into at all.
+pub const FOLDER_MARKER: &str = ".wovenform";
 
-impl Output {
-    /// A file any existing version of which may be replaced.
-    pub fn replaceable(path: impl Into<PathBuf>) -> Output {
-        Output {
-            path: path.into(),
-            owned_if: None,
-        }
-    }
-
-    /// A file replaced only when the existing one begins with `head` (wovenform wrote it).
-    pub fn owned_if(path: impl Into<PathBuf>, head: &'static [u8]) -> Output {
-        Output {
-            path: path.into(),
-            owned_if: Some(head),
-        }
-    }
-}
+const MARKER_TEXT: &str = "This folder holds what wovenform wrote: a later wovenform command may \
+     replace its files. wovenform writes into no folder that holds other files and lacks this \
+     one.\n";
 
 /// Why a command's outputs were refused before it did any work.
 #[derive(Debug, thiserror::Error)]
@@ -193,53 +182,119 @@ pub enum OverwriteError {
         what: String,
     },
     #[error(
-        "{}: a file of that name is already there and wovenform did not write it; it is not \
-         replaced: expected an output folder (--out) without it, or move it away",
-        output.display()
+        "{}: the folder holds {}, which wovenform did not write (the folder has no \
+         {FOLDER_MARKER} file): nothing is written there; expected a new or empty output folder \
+         (--out), or one a wovenform command wrote",
+        folder.display(),
+        file.display()
     )]
-    NotOurs { output: PathBuf },
+    NotOurs { folder: PathBuf, file: PathBuf },
     #[error("{}: a folder of that name is in the way of the output file", output.display())]
     Folder { output: PathBuf },
+    #[error("{}: not a folder: expected an output folder (--out) to write into", path.display())]
+    NotAFolder { path: PathBuf },
+    #[error("{}: cannot {action}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        action: &'static str,
+        #[source]
+        source: std::io::Error,
+    },
 }
 
-/// Refuses `outputs` when one of them is one of `inputs`, a folder, or an existing file of a
-/// kind a person keeps (see [`Output::owned_if`]) that wovenform did not write.
-pub fn check_outputs(outputs: &[Output], inputs: &[Input]) -> Result<(), OverwriteError> {
+/// Refuses `outputs` (files a command will write) when one of them is one of `inputs` or a
+/// folder. The inputs are also kept from being replaced by any later write of this process
+/// ([`write_atomic`] refuses them), so that an output a command did not list cannot
+/// overwrite them either.
+pub fn check_outputs(outputs: &[PathBuf], inputs: &[Input]) -> Result<(), OverwriteError> {
+    protect(inputs);
     for out in outputs {
-        if let Some(input) = inputs.iter().find(|i| same_file(&out.path, &i.path)) {
+        if let Some(input) = inputs.iter().find(|i| same_file(out, &i.path)) {
             return Err(OverwriteError::Input {
-                output: out.path.clone(),
+                output: out.clone(),
                 input: input.path.clone(),
                 what: input.what.clone(),
             });
         }
-        if out.path.is_dir() {
+        if out.is_dir() {
             return Err(OverwriteError::Folder {
-                output: out.path.clone(),
-            });
-        }
-        if let Some(head) = out.owned_if
-            && out.path.exists()
-            && !begins_with(&out.path, head)
-        {
-            return Err(OverwriteError::NotOurs {
-                output: out.path.clone(),
+                output: out.clone(),
             });
         }
     }
     Ok(())
 }
 
-/// Whether the file at `path` begins with `head` (false when it cannot be read).
-fn begins_with(path: &Path, head: &[u8]) -> bool {
-    use std::io::Read as _;
-    let Ok(file) = std::fs::File::open(path) else {
+/// Makes `dir` a folder wovenform may write into, or says why not: a new folder is created
+/// and marked ([`FOLDER_MARKER`]), as is an empty one; a marked folder is taken as it is, and
+/// so is an output folder of an earlier version (its `sweep.lock` written by wovenform), which
+/// is marked now. A folder holding anything else is refused, naming one of its files.
+pub fn claim_folder(dir: &Path) -> Result<(), OverwriteError> {
+    let io = |action: &'static str| {
+        let path = dir.to_path_buf();
+        move |source| OverwriteError::Io {
+            path,
+            action,
+            source,
+        }
+    };
+    if dir.exists() && !dir.is_dir() {
+        return Err(OverwriteError::NotAFolder {
+            path: dir.to_path_buf(),
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(io("create the output folder"))?;
+    let marker = dir.join(FOLDER_MARKER);
+    if marker.is_file() {
+        return Ok(());
+    }
+    let first = std::fs::read_dir(dir)
+        .map_err(io("read the output folder"))?
+        .filter_map(Result::ok)
+        .map(|e| e.file_name())
+        .min();
+    if let Some(name) = first.filter(|_| !earlier_output_folder(dir)) {
+        return Err(OverwriteError::NotOurs {
+            folder: dir.to_path_buf(),
+            file: dir.join(name),
+        });
+    }
+    write_atomic(&marker, MARKER_TEXT.as_bytes()).map_err(io("write into the output folder"))
+}
+
+/// Whether `dir` may be written into without refusal: it does not exist, is empty, or is
+/// marked (see [`claim_folder`]); nothing is created.
+pub fn folder_is_free(dir: &Path) -> bool {
+    if !dir.exists() {
+        return true;
+    }
+    dir.is_dir()
+        && (dir.join(FOLDER_MARKER).is_file()
+            || earlier_output_folder(dir)
+            || std::fs::read_dir(dir).is_ok_and(|mut e| e.next().is_none()))
+}
+
+/// An output folder of a version before the marker: its `sweep.lock` says wovenform wrote it.
+fn earlier_output_folder(dir: &Path) -> bool {
+    let Ok(text) = read_text(&dir.join("sweep.lock"), 1 << 20) else {
         return false;
     };
-    let mut first = Vec::with_capacity(head.len());
-    file.take(head.len() as u64)
-        .read_to_end(&mut first)
-        .is_ok_and(|_| first == head)
+    serde_json::from_str::<serde_json::Value>(&text)
+        .is_ok_and(|v| v.get("program").and_then(|p| p.as_str()) == Some("wovenform"))
+}
+
+/// The inputs of this process's command, kept from being replaced.
+static PROTECTED: std::sync::Mutex<Vec<Input>> = std::sync::Mutex::new(Vec::new());
+
+fn protect(inputs: &[Input]) {
+    let mut kept = PROTECTED.lock().unwrap_or_else(|e| e.into_inner());
+    kept.extend(inputs.iter().cloned());
+}
+
+/// The protected input at `path`, if it is one.
+fn protected_at(path: &Path) -> Option<Input> {
+    let kept = PROTECTED.lock().unwrap_or_else(|e| e.into_inner());
+    kept.iter().find(|i| same_file(path, &i.path)).cloned()
 }
 
 #[cfg(test)]
@@ -297,32 +352,58 @@ mod tests {
         std::fs::write(&data, "displacement_mm,force_n\n").unwrap();
         let inputs = [Input::new(&data, "the measured curve")];
         let roundabout = dir.path().join(".").join("bias.csv");
-        let e = check_outputs(&[Output::replaceable(&roundabout)], &inputs).unwrap_err();
+        let e = check_outputs(std::slice::from_ref(&roundabout), &inputs).unwrap_err();
         assert!(e.to_string().contains("the measured curve"), "{e}");
         #[cfg(unix)]
         {
             let link = dir.path().join("link.csv");
             std::os::unix::fs::symlink(&data, &link).unwrap();
-            assert!(check_outputs(&[Output::replaceable(&link)], &inputs).is_err());
+            assert!(check_outputs(&[link], &inputs).is_err());
         }
-        // Another file of the folder may be written.
-        let other = Output::replaceable(dir.path().join("bias.png"));
-        assert!(check_outputs(&[other], &inputs).is_ok());
+        // Another file of the folder may be written; the input, by no later write.
+        assert!(check_outputs(&[dir.path().join("bias.png")], &inputs).is_ok());
+        let e = write_atomic(&roundabout, b"x").unwrap_err();
+        assert!(e.to_string().contains("the measured curve"), "{e}");
+        assert_eq!(std::fs::read(&data).unwrap(), b"displacement_mm,force_n\n");
+        let folder = dir.path().join("maps");
+        std::fs::create_dir(&folder).unwrap();
+        assert!(check_outputs(&[folder], &[]).is_err());
     }
 
     #[test]
-    fn a_users_file_of_a_kept_kind_is_replaced_only_when_wovenform_wrote_it() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("fabric.toml");
-        let ours = Output::owned_if(&path, b"# The fabric of");
-        assert!(check_outputs(std::slice::from_ref(&ours), &[]).is_ok());
-        std::fs::write(&path, "[fabric]\na = 0.1\n").unwrap();
-        let e = check_outputs(std::slice::from_ref(&ours), &[]).unwrap_err();
-        assert!(e.to_string().contains("did not write it"), "{e}");
-        std::fs::write(&path, "# The fabric of x\n[fabric]\n").unwrap();
-        assert!(check_outputs(&[ours], &[]).is_ok());
-        let folder = dir.path().join("maps");
-        std::fs::create_dir(&folder).unwrap();
-        assert!(check_outputs(&[Output::replaceable(folder)], &[]).is_err());
+    fn a_folder_is_written_into_when_new_empty_or_marked_and_never_when_it_holds_other_files() {
+        let tmp = tempfile::tempdir().unwrap();
+        let new = tmp.path().join("a/b");
+        claim_folder(&new).unwrap();
+        assert!(new.join(FOLDER_MARKER).is_file());
+        claim_folder(&new).unwrap();
+        std::fs::write(new.join("shear.png"), "ours").unwrap();
+        claim_folder(&new).unwrap();
+        // A folder of the user's: refused, naming a file, nothing written.
+        let mine = tmp.path().join("mine");
+        std::fs::create_dir(&mine).unwrap();
+        std::fs::write(mine.join("frontier.csv"), "x\n").unwrap();
+        assert!(!folder_is_free(&mine));
+        let e = claim_folder(&mine).unwrap_err().to_string();
+        assert!(
+            e.contains("frontier.csv") && e.contains(FOLDER_MARKER),
+            "{e}"
+        );
+        assert_eq!(std::fs::read_dir(&mine).unwrap().count(), 1);
+        // An empty one is taken and marked; a file in the way is no folder.
+        let empty = tmp.path().join("empty");
+        std::fs::create_dir(&empty).unwrap();
+        assert!(folder_is_free(&empty));
+        claim_folder(&empty).unwrap();
+        assert!(empty.join(FOLDER_MARKER).is_file());
+        let e = claim_folder(&mine.join("frontier.csv")).unwrap_err();
+        assert!(e.to_string().contains("not a folder"), "{e}");
+        // A sweep folder of an earlier version: its lock says so.
+        let old = tmp.path().join("old");
+        std::fs::create_dir(&old).unwrap();
+        std::fs::write(old.join("results.csv"), "r\n").unwrap();
+        std::fs::write(old.join("sweep.lock"), "{\"program\": \"wovenform\"}").unwrap();
+        claim_folder(&old).unwrap();
+        assert!(old.join(FOLDER_MARKER).is_file());
     }
 }

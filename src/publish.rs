@@ -32,6 +32,9 @@ pub enum PublishError {
     Draw(#[from] DrawError),
     #[error(transparent)]
     Store(#[from] StoreError),
+    /// The folder is not wovenform's to write into.
+    #[error(transparent)]
+    Folder(#[from] crate::files::OverwriteError),
 }
 
 fn io(path: &Path, action: &'static str) -> impl FnOnce(std::io::Error) -> PublishError {
@@ -76,8 +79,8 @@ pub fn sweep_report(
     ])
 }
 
-/// The files [`write_run`] writes into its folder.
-pub const RUN_FILES: [&str; 7] = [
+/// The files [`write_run`] writes into its folder (the last only where the fabric bends).
+pub const RUN_FILES: [&str; 8] = [
     "summary.json",
     "shear.png",
     "tension.png",
@@ -85,20 +88,34 @@ pub const RUN_FILES: [&str; 7] = [
     "tension_developed.png",
     "form.png",
     "result.vtu",
+    "wrinkles.png",
 ];
+
+/// The files a sweep (and a frontier, a merge) writes at the top of its folder, besides the
+/// folders `maps/` and `fields/`.
+pub const SWEEP_FILES: [&str; 5] = [
+    "results.csv",
+    "results.json",
+    "report.png",
+    "sweep.lock",
+    crate::study::sweep::LOCK_FILE,
+];
+
+/// The files [`write_frontier`] writes.
+pub const FRONTIER_FILES: [&str; 3] = ["frontier.csv", "frontier.json", "frontier.png"];
 
 /// Writes `shear.png`, `tension.png`, their developed views (`shear_developed.png`,
 /// `tension_developed.png`: on the flat blank), `form.png` (the formed blank in 3-D),
 /// `result.vtu`, `summary.json` and, where the
 /// fabric has bending, `wrinkles.png` into `dir`
-/// (created if needed), records them in `summary.files`, and returns their paths. Errors name the file.
+/// (claimed: see [`crate::files::claim_folder`]), records them in `summary.files`, and returns their paths. Errors name the file.
 pub fn write_run(
     dir: &Path,
     summary: &mut RunSummary,
     result: &DrawingResult,
     tooling: &Tooling,
 ) -> Result<Vec<PathBuf>, PublishError> {
-    std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
+    crate::files::claim_folder(dir)?;
     let design = summary.design_line();
     let ctx = MapContext {
         design: &design,
@@ -188,7 +205,7 @@ pub const NEWTON_TRACE_FILES: [&str; 2] = ["newton_trace.csv", "newton_trace.png
 
 /// Writes `dir/figure6.csv` and `dir/figure6.png` (creating `dir`); returns the paths written.
 pub fn write_figure6(params: CellParams, dir: &Path) -> Result<Vec<PathBuf>, PublishError> {
-    std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
+    crate::files::claim_folder(dir)?;
     let rows = figure6_table(params, 121);
     let csv = dir.join("figure6.csv");
     write_atomic(&csv, figure6_csv(&rows).as_bytes()).map_err(io(&csv, "write"))?;
@@ -217,7 +234,7 @@ pub fn write_fit(
     result: &FitResult,
     data_name: &str,
 ) -> Result<PathBuf, PublishError> {
-    std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
+    crate::files::claim_folder(dir)?;
     let title = format!(
         "Fit of {data_name}: A = {:.4} mm, B = {:.3} 1/N, RMS {:.2} N",
         result.params.a, result.params.b, result.rms_n
@@ -238,7 +255,7 @@ pub fn write_bias(
     measured: Option<&[(f64, f64)]>,
 ) -> Result<Vec<PathBuf>, PublishError> {
     use crate::report::bias;
-    std::fs::create_dir_all(dir).map_err(io(dir, "create the folder"))?;
+    crate::files::claim_folder(dir)?;
     let csv_path = dir.join("bias.csv");
     let mut w = csv::Writer::from_writer(Vec::new());
     let row_error = |e: csv::Error| io(&csv_path, "write")(std::io::Error::other(e.to_string()));
@@ -277,12 +294,9 @@ pub fn write_frontier(
     accuracy: Option<&str>,
 ) -> Result<Vec<PathBuf>, PublishError> {
     use crate::report::frontier::{chart, frontier_csv, frontier_json};
-    let csv = write_text(&dir.join("frontier.csv"), &frontier_csv(frontier))?;
-    let json = write_text(
-        &dir.join("frontier.json"),
-        &frontier_json(frontier, accuracy),
-    )?;
-    let png = dir.join("frontier.png");
+    let [csv, json, png] = FRONTIER_FILES.map(|f| dir.join(f));
+    let csv = write_text(&csv, &frontier_csv(frontier))?;
+    let json = write_text(&json, &frontier_json(frontier, accuracy))?;
     crate::report::canvas::write_png(&png, chart::SIZE, "chart", |area| {
         chart::draw(frontier, area)
     })?;

@@ -104,15 +104,9 @@ fn pull(problem: &BiasProblem) -> Result<(BiasResult, f64), CliError> {
     Ok((result, start.elapsed().as_secs_f64()))
 }
 
-/// What `bias` and `fit --bias` write into `dir` (a `bias.csv` only over one they wrote: a
-/// measured curve is often called so).
-pub fn bias_outputs(dir: &Path) -> Vec<wovenform::files::Output> {
-    let mut files = outputs::replaceable(dir, &["bias.png", "shear.png"]);
-    files.push(wovenform::files::Output::owned_if(
-        dir.join("bias.csv"),
-        outputs::BIAS_CSV_HEAD,
-    ));
-    files
+/// What `bias` and `fit --bias` write into `dir`.
+pub fn bias_outputs(dir: &Path) -> Vec<PathBuf> {
+    outputs::in_dir(dir, &["bias.png", "shear.png", "bias.csv"])
 }
 
 fn print_json(p: &BiasProblem, r: &BiasResult, dep: &Departure, wall_s: f64, files: &[PathBuf]) {

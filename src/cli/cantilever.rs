@@ -97,11 +97,7 @@ pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
     let (rigidity, mass) = (problem.bending_rigidity, problem.areal_mass_g_m2);
     let dir = args.out.dir("cantilever-", file);
     let inputs = outputs::scene_inputs(Some(file), &scene);
-    outputs::prepare(
-        &dir,
-        &outputs::replaceable(&dir, &["cantilever.png"]),
-        &inputs,
-    )?;
+    outputs::prepare(&dir, &outputs::in_dir(&dir, &["cantilever.png"]), &inputs)?;
     let start = std::time::Instant::now();
     let r = problem
         .solve()

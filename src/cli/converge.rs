@@ -8,7 +8,6 @@ use clap::Args;
 use super::progress::stderr_bar;
 use super::scene_args::SceneFileArgs;
 use super::{CliError, outputs};
-use wovenform::files::Output;
 use wovenform::publish;
 use wovenform::report::converge as report;
 use wovenform::study::converge as study;
@@ -34,9 +33,7 @@ pub fn exec(args: ConvergeArgs) -> Result<(), CliError> {
     let scene = args.scene.load()?;
     let ladders = study::Ladders::new(&scene, &args.sizes, &args.steps)
         .map_err(|e| CliError::bad_input(e.to_string()))?;
-    let mut files = outputs::replaceable(&args.out, &["converge.png"]);
-    let csv = args.out.join("converge.csv");
-    files.push(Output::owned_if(csv, outputs::CONVERGE_CSV_HEAD));
+    let files = outputs::in_dir(&args.out, &["converge.png", "converge.csv"]);
     let inputs = outputs::scene_inputs(Some(file), &scene);
     outputs::prepare(&args.out, &files, &inputs)?;
     let bar = stderr_bar(

@@ -54,7 +54,7 @@ pub fn exec(args: FitArgs) -> Result<(), CliError> {
     let dir = args.out.dir("fit-", &args.data);
     let mut inputs = outputs::scene_inputs(args.scene.scene.as_deref(), &scene);
     inputs.push(Input::new(&args.data, "the measured curves"));
-    outputs::prepare(&dir, &outputs::replaceable(&dir, &["fit.png"]), &inputs)?;
+    outputs::prepare(&dir, &outputs::in_dir(&dir, &["fit.png"]), &inputs)?;
     let options = FitOptions {
         fit_c: args.fit_c,
         ..FitOptions::default()

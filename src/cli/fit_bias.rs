@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::progress::stderr_bar;
 use super::{CliError, outputs};
-use wovenform::files::{Input, Output};
+use wovenform::files::Input;
 use wovenform::scene::{Scene, SceneError, specimen};
 use wovenform::study::fit::refine::{
     FE_POINTS, Refined, fitted_fabric_toml, refine, usable_points,
@@ -103,7 +103,7 @@ fn prepare(
     let mut inputs = outputs::scene_inputs(args.scene_file.as_deref(), scene);
     inputs.push(Input::new(args.data, "the measured bias-extension curve"));
     let mut files = super::bias::bias_outputs(dir);
-    files.push(Output::owned_if(toml_path, outputs::FABRIC_TOML_HEAD));
+    files.push(toml_path.to_path_buf());
     outputs::prepare(dir, &files, &inputs)
 }
 

@@ -128,13 +128,7 @@ fn check_outputs(plan: &Plan, args: &FrontierArgs) -> Result<(), CliError> {
     let base = plan.base_file.as_deref().map(std::path::Path::new);
     let mut inputs = outputs::scene_inputs(base, &plan.base_scene);
     inputs.push(Input::new(&args.sweep, "the sweep file"));
-    let names = [
-        "results.csv",
-        "sweep.lock",
-        "frontier.csv",
-        "frontier.json",
-        "frontier.png",
-    ];
-    let files = outputs::replaceable(&args.out, &names);
+    let names = [&publish::SWEEP_FILES[..], &publish::FRONTIER_FILES[..]].concat();
+    let files = outputs::in_dir(&args.out, &names);
     wovenform::files::check_outputs(&files, &inputs).map_err(|e| CliError::bad_input(e.to_string()))
 }

@@ -72,12 +72,7 @@ pub fn exec(args: LawArgs) -> Result<(), CliError> {
             .out
             .as_deref()
             .expect("clap requires --out with --curves");
-        let mut files = outputs::replaceable(out, &["figure6.png"]);
-        let csv = out.join("figure6.csv");
-        files.push(wovenform::files::Output::owned_if(
-            csv,
-            outputs::FIGURE6_CSV_HEAD,
-        ));
+        let files = outputs::in_dir(out, &["figure6.png", "figure6.csv"]);
         let inputs = outputs::scene_inputs(args.scene.scene.as_deref(), &scene);
         outputs::prepare(out, &files, &inputs)?;
         let written = write_figure6(params, out)?;

@@ -6,7 +6,6 @@ use clap::Args;
 use super::progress::stroke_bar;
 use super::scene_args::{AccuracyArgs, OutArgs, SceneFileArgs};
 use super::{CliError, outputs};
-use wovenform::files::Output;
 use wovenform::publish::{NEWTON_TRACE_FILES, RUN_FILES, write_newton_trace, write_run};
 use wovenform::study::draw::{draw, draw_traced};
 
@@ -32,14 +31,10 @@ pub fn exec(args: RunArgs) -> Result<(), CliError> {
     let scene = args.scene.load_with(&args.accuracy.with(&args.scene.set))?;
     // The output folder is checked before the solve, so a bad one costs nothing.
     let dir = args.out.dir("", file);
-    let mut files = outputs::replaceable(&dir, &RUN_FILES[1..]);
+    let mut files = outputs::in_dir(&dir, &RUN_FILES);
     if args.newton_trace {
-        files.extend(outputs::replaceable(&dir, &NEWTON_TRACE_FILES));
+        files.extend(outputs::in_dir(&dir, &NEWTON_TRACE_FILES));
     }
-    files.push(Output::owned_if(
-        dir.join("summary.json"),
-        outputs::SUMMARY_JSON_HEAD,
-    ));
     outputs::prepare(&dir, &files, &outputs::scene_inputs(Some(file), &scene))?;
     let stroke = scene.process.stroke;
     let bar = stroke_bar(stroke);

@@ -251,6 +251,7 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
 
 /// The scripts written into `OUT/slurm`, with the folder for the tasks' logs.
 fn write_scripts(job: &ArrayJob, scripts: &[(PathBuf, String)]) -> Result<(), CliError> {
+    wovenform::files::claim_folder(&job.out).map_err(|e| CliError::bad_input(e.to_string()))?;
     let logs = job.out.join("slurm").join("logs");
     std::fs::create_dir_all(&logs).map_err(|e| {
         CliError::bad_input(format!("{}: cannot create the folder: {e}", logs.display()))

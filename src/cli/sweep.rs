@@ -226,7 +226,6 @@ fn check_outputs(plan: &Plan, args: &SweepArgs) -> Result<(), CliError> {
     let base = plan.base_file.as_deref().map(std::path::Path::new);
     let mut inputs = outputs::scene_inputs(base, &plan.base_scene);
     inputs.push(Input::new(&args.sweep, "the sweep file"));
-    let names = ["results.csv", "results.json", "report.png", "sweep.lock"];
-    let files = outputs::replaceable(&args.out, &names);
+    let files = outputs::in_dir(&args.out, &wovenform::publish::SWEEP_FILES);
     wovenform::files::check_outputs(&files, &inputs).map_err(|e| CliError::bad_input(e.to_string()))
 }

@@ -6,10 +6,9 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::CliError;
-use super::outputs::{self, STL_HEAD};
+use super::outputs;
 use super::scene_args::SceneFileArgs;
 use wovenform::core::tools::surface::TriSurface;
-use wovenform::files::Output;
 use wovenform::study::tessellation::{check_spacing, tessellate};
 
 #[derive(Args, Debug)]
@@ -29,7 +28,7 @@ pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
     let file = &args.scene.scene;
     let scene = args.scene.load()?;
     check_spacing(&scene, args.spacing).map_err(CliError::bad_input)?;
-    let files = ["punch.stl", "die.stl"].map(|n| Output::owned_if(args.out.join(n), STL_HEAD));
+    let files = outputs::in_dir(&args.out, &["punch.stl", "die.stl"]);
     let inputs = outputs::scene_inputs(Some(file), &scene);
     outputs::prepare(&args.out, &files, &inputs)?;
     let surfaces = tessellate(&scene, args.spacing);

@@ -75,10 +75,12 @@ pub enum Command {
         from: Vec<PathBuf>,
         to: PathBuf,
     },
-    /// Find the boundary along the lattice's axis into `dir` (see [`super::frontier`]).
+    /// Find the boundary along the lattice's axis into `dir` (see [`super::frontier`]),
+    /// keeping the rows there when `resume`.
     Frontier {
         lattice: Box<crate::study::frontier::Lattice>,
         dir: PathBuf,
+        resume: bool,
     },
     /// Solve design `design` again and write its maps, VTU and summary into `dir`.
     WriteFiles {
@@ -677,7 +679,8 @@ impl App {
     /// The export folder that does not hold results yet: `NAME-export`, `NAME-export-2`, …
     pub(super) fn free_export_dir(&self) -> PathBuf {
         let base = self.export_dir.clone();
-        let taken = |p: &Path| p.join("results.csv").exists();
+        // A folder of the user's is not written into; one with results is another export.
+        let taken = |p: &Path| p.join("results.csv").exists() || !crate::files::folder_is_free(p);
         if !taken(&base) {
             return base;
         }

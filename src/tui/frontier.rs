@@ -70,11 +70,22 @@ impl App {
             grid_runs: lattice.combos.len() * lattice.grid_values,
             result: None,
         });
-        self.runs += 1;
-        let dir = self.session.join(format!("run-{}", self.runs));
-        self.entries = entries_of(&plan);
-        self.fields.clear();
-        self.selected = 0;
+        // The rows of the last run of this scene and columns are the search's too: it runs in
+        // that folder and keeps them (its runs between the grid's values are rows there too).
+        let resume = self.run_dir.is_some()
+            && plan.base_hash == self.run_base_hash
+            && plan.columns() == self.table_plan.columns()
+            && self.entries.iter().any(|e| e.row.is_some());
+        let dir = if resume {
+            self.entries = super::runs::carry_rows(&self.entries, &plan);
+            self.run_dir.clone().expect("checked")
+        } else {
+            self.runs += 1;
+            self.entries = entries_of(&plan);
+            self.fields.clear();
+            self.selected = 0;
+            self.session.join(format!("run-{}", self.runs))
+        };
         self.table_plan = plan.clone();
         self.run_base_hash = plan.base_hash.clone();
         self.run_dir = Some(dir.clone());
@@ -89,6 +100,7 @@ impl App {
         Command::Frontier {
             lattice: Box::new(lattice),
             dir,
+            resume,
         }
     }
 

@@ -162,8 +162,12 @@ fn event_loop(
             } => {
                 stop = Some(worker::start_sweep(*plan, dir, resume, only, tx.clone()));
             }
-            Command::Frontier { lattice, dir } => {
-                stop = Some(worker::start_frontier(*lattice, dir, tx.clone()));
+            Command::Frontier {
+                lattice,
+                dir,
+                resume,
+            } => {
+                stop = Some(worker::start_frontier(*lattice, dir, resume, tx.clone()));
             }
             Command::Export { from, to } => worker::start_export(from, to, tx.clone()),
             Command::WriteFiles { design, scene, dir } => {

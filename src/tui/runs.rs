@@ -168,7 +168,7 @@ impl App {
 
 /// The entries of `plan` with the rows of `old` whose design has the same values (the hash
 /// part of its id), renumbered to the new grid.
-fn carry_rows(
+pub(super) fn carry_rows(
     old: &[super::app::Entry],
     plan: &crate::study::sweep::Plan,
 ) -> Vec<super::app::Entry> {

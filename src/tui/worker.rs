@@ -95,6 +95,7 @@ fn finished(outcome: Result<(bool, f64), sweep::SweepError>) -> Message {
 pub fn start_frontier(
     lattice: crate::study::frontier::Lattice,
     dir: PathBuf,
+    resume: bool,
     tx: Sender<Message>,
 ) -> Arc<AtomicBool> {
     use crate::study::frontier;
@@ -102,7 +103,7 @@ pub fn start_frontier(
     let options = frontier::Options {
         jobs: None,
         shard: None,
-        resume: false,
+        resume,
         stop: Some(stop.clone()),
     };
     thread::Builder::new()

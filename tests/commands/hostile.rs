@@ -103,8 +103,8 @@ fn tools_never_write_over_a_scenes_stl_or_a_users_stl() {
     let o = wovenform_in(d, &["tools", "dd.toml", "--out", "double-dome"]);
     refused(&o, &["punch.stl", "tools.punch"]);
     assert_eq!(bytes(&punch), before);
-    // An analytic scene into a folder with a user's (ASCII) STL: refused; with wovenform's own
-    // STL files: replaced.
+    // An analytic scene into a folder with a user's (ASCII) STL: refused; into the folder
+    // wovenform wrote its own STL files in: replaced.
     std::fs::create_dir(d.join("user")).unwrap();
     let ascii = "solid p\nendsolid p\n";
     std::fs::write(d.join("user/die.stl"), ascii).unwrap();
@@ -112,12 +112,21 @@ fn tools_never_write_over_a_scenes_stl_or_a_users_stl() {
     let o = wovenform_in(d, &["tools", &open_box, "--out", "user"]);
     refused(&o, &["die.stl", "did not write"]);
     assert_eq!(bytes(&d.join("user/die.stl")), ascii.as_bytes());
+    // The scene's own STL folder is the user's, even though its files are wovenform's.
     let o = wovenform_in(
         d,
         &["tools", &open_box, "--out", "double-dome", "--spacing", "2"],
     );
-    assert_eq!(code(&o), Some(0), "{}", text(&o.stderr));
-    assert_ne!(bytes(&punch), before);
+    refused(&o, &["double-dome/", "did not write"]);
+    assert_eq!(bytes(&punch), before);
+    for spacing in ["3", "2"] {
+        let o = wovenform_in(
+            d,
+            &["tools", &open_box, "--out", "ours", "--spacing", spacing],
+        );
+        assert_eq!(code(&o), Some(0), "{}", text(&o.stderr));
+    }
+    assert!(d.join("ours/punch.stl").is_file());
 }
 
 #[test]

@@ -19,6 +19,7 @@ mod hostile;
 mod mesh_hostile_cli;
 mod mesh_scene_cli;
 mod newton_trace_cli;
+mod output_folders;
 mod run_cli;
 mod scene_errors;
 mod slurm_cli;

@@ -250,7 +250,7 @@ fn an_output_folder_of_another_sweep_is_refused_up_front_and_by_the_merge() {
     let o = merge(&loose);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("without a sweep.lock"),
+        stderr(&o).contains("loose/results.csv, which wovenform did not write"),
         "{}",
         stderr(&o)
     );

@@ -564,6 +564,8 @@ fn a_folder_in_use_is_refused_and_a_stale_lock_taken_over() {
     let f = file.to_str().unwrap();
     let out = dir.join("out");
     std::fs::create_dir(&out).unwrap();
+    // A folder a sweep made (its mark), whose lock file is there.
+    std::fs::write(out.join(wovenform::files::FOLDER_MARKER), "").unwrap();
     let lock_path = out.join("sweep.pid");
     // Another sweep holds the folder (this test's process, its pid in the file, locked).
     let held = std::fs::File::create(&lock_path).unwrap();

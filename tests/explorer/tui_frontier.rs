@@ -77,10 +77,15 @@ fn found(app: &wovenform::tui::app::App) -> Frontier {
 fn b_finds_the_boundary_along_r_and_shows_it_under_the_results_and_in_the_detail() {
     let mut app = explorer(false);
     match app.on_key(key(KeyCode::Char('b'))) {
-        Command::Frontier { lattice, dir } => {
+        Command::Frontier {
+            lattice,
+            dir,
+            resume,
+        } => {
             assert_eq!(lattice.searched().column, "r");
             assert_eq!(lattice.combos.len(), 4);
             assert_eq!(dir, PathBuf::from("/session/run-1"));
+            assert!(!resume, "nothing to keep");
         }
         other => panic!("expected a frontier, got {other:?}"),
     }
@@ -131,4 +136,22 @@ fn b_searches_the_sorted_column_when_it_is_a_swept_number() {
         Command::Frontier { lattice, .. } => assert_eq!(lattice.searched().column, "rm"),
         other => panic!("expected a frontier, got {other:?}"),
     }
+}
+
+#[test]
+fn b_after_a_finished_run_keeps_its_rows_and_searches_in_its_folder() {
+    let mut app = explorer(false);
+    finished_run(&mut app);
+    let before: Vec<_> = app.entries().iter().map(|e| e.row.clone()).collect();
+    assert!(before.iter().all(Option::is_some));
+    match app.on_key(key(KeyCode::Char('b'))) {
+        Command::Frontier { dir, resume, .. } => {
+            assert_eq!(dir, PathBuf::from("/session/run-1"), "the run's own folder");
+            assert!(resume, "its rows are the search's");
+        }
+        other => panic!("expected a frontier, got {other:?}"),
+    }
+    let after: Vec<_> = app.entries().iter().map(|e| e.row.clone()).collect();
+    assert_eq!(after, before, "no finished row is shown as not run");
+    assert_eq!(app.runs(), 1);
 }

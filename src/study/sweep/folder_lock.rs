@@ -31,12 +31,11 @@ impl Drop for FolderLock {
 }
 
 impl FolderLock {
-    /// Creates `dir` if needed and takes its lock; with a note when the lock of a process
+    /// Claims `dir` as wovenform's output folder ([`crate::files::claim_folder`]: a folder
+    /// of the user's is refused) and takes its lock; with a note when the lock of a process
     /// that no longer runs was taken over. A folder held by a running sweep: bad input.
     pub fn take(dir: &Path) -> Result<(FolderLock, Option<String>), SweepError> {
-        let folder_error =
-            |e| SweepError::Folder(StoreError::io(dir, "write the output folder")(e));
-        fs::create_dir_all(dir).map_err(folder_error)?;
+        crate::files::claim_folder(dir).map_err(|e| SweepError::BadInput(e.to_string()))?;
         let path = dir.join(LOCK_FILE);
         // The holder may remove the file between our open and our lock: then lock the new one.
         for _ in 0..8 {

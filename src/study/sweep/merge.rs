@@ -51,7 +51,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<(Plan, Outcome), SweepErr
             })?;
         }
     }
-    let csv = store::write_rows(out, &plan, &rows).map_err(SweepError::Store)?;
+    let csv = store::write_rows(out, &plan, &rows, &report.others).map_err(SweepError::Store)?;
     let outcome = Outcome {
         missing: plan.len().saturating_sub(rows.len()),
         rows,
@@ -95,6 +95,8 @@ fn with_earlier_merge(
     report.no_field += r.no_field;
     report.duplicates += r.duplicates;
     report.edited += r.edited;
+    // The rows of other grids the folder held stay in it.
+    report.others = r.others;
     let mut sources: HashMap<String, PathBuf> = earlier
         .iter()
         .map(|row| (row.design.clone(), out.to_path_buf()))
@@ -163,6 +165,7 @@ fn gather(inputs: &[PathBuf]) -> Result<Gathered, SweepError> {
             )));
         }
         let (found, r) = store::read_rows(dir, plan).map_err(store::rows_error)?;
+        // A shard's rows of other grids stay in the shard's folder.
         report.truncated += r.truncated;
         report.foreign += r.foreign;
         report.no_field += r.no_field;

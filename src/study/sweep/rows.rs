@@ -121,7 +121,7 @@ pub(super) fn round_to(v: f64, decimals: i32) -> f64 {
 
 /// One CSV record (RFC 4180 quoting where needed) with its newline; line breaks inside a field
 /// become spaces, so that a record is one line.
-fn csv_line(fields: &[String]) -> String {
+pub(super) fn csv_line(fields: &[String]) -> String {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(fields.iter().map(|f| f.replace(['\n', '\r'], " ")))
         .expect("writing to memory");

@@ -145,16 +145,27 @@ impl<'a> Sink<'a> {
         }
     }
 
-    fn push(&self, row: Row) {
+    /// Appends `row` and reports it; a row that cannot be written (a full disk) is not
+    /// reported: the first such error is kept, and `failed` set so that the sweep stops.
+    fn push(&self, row: Row, failed: &AtomicBool) {
         let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        if s.error.is_some() {
+            return;
+        }
         let line = row.to_csv();
         if let Err(e) = s
             .file
             .write_all(line.as_bytes())
             .and_then(|_| s.file.flush())
         {
-            let msg = format!("{}: cannot write a row: {e}", s.path.display());
-            s.error.get_or_insert(msg);
+            let msg = format!(
+                "{}: cannot write the row of {}: {e}",
+                s.path.display(),
+                row.design
+            );
+            s.error = Some(msg);
+            failed.store(true, Ordering::Relaxed);
+            return;
         }
         if row.verdict == Verdict::Feasible {
             s.feasible += 1;
@@ -187,11 +198,16 @@ struct Job<'a> {
     /// The output folder.
     dir: &'a Path,
     stop: Option<&'a AtomicBool>,
+    /// Set when a design's row or field could not be written (a full disk): the designs
+    /// not started are left, the running ones stop, and the sweep ends with the error.
+    failed: AtomicBool,
+    /// Why a field could not be written, the first time.
+    field_error: Mutex<Option<String>>,
 }
 
 impl Job<'_> {
     fn stopped(&self) -> bool {
-        self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
+        self.failed.load(Ordering::Relaxed) || self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
     }
 }
 
@@ -214,13 +230,13 @@ fn run_design(job: &Job, design: &Design, scene: &Scene) -> Option<Row> {
     let summary = RunSummary::new(&design.id, scene, &result, start.elapsed().as_secs_f64());
     let mut row = Row::from_summary(job.plan, job.columns, design, &summary);
     let field = StoredField::of_run(design, &summary, &result, &problem.tooling);
+    // Without its field the row would be run again on a resume: the folder cannot take the
+    // sweep's results (a full disk), so the sweep stops and says so.
     if let Err(e) = field.write(job.dir) {
-        row.map = None;
-        let note = format!("the field was not saved: {e}");
-        row.failure = Some(match row.failure.take() {
-            Some(f) => format!("{f}; {note}"),
-            None => note,
-        });
+        let mut first = job.field_error.lock().unwrap_or_else(|e| e.into_inner());
+        first.get_or_insert(format!("the field of {}: {e}", design.id));
+        job.failed.store(true, Ordering::Relaxed);
+        return None;
     }
     Some(row)
 }
@@ -241,8 +257,9 @@ pub fn run(
     // Before any work: the folder's lock (held to the end), the earlier rows, the plan.
     let (lock, note) = FolderLock::take(dir)?;
     let (kept_rows, kept) = store::earlier_rows(plan, dir, options.resume)?;
-    let file = store::open_rows(plan, dir, options.shard, &kept_rows)?;
+    let file = store::open_rows(plan, dir, options.shard, &kept_rows, &kept.others)?;
     let have: HashSet<&str> = kept_rows.iter().map(|r| r.design.as_str()).collect();
+    let kept_count = kept_rows.len();
     let wanted = |d: &Design| options.only.as_ref().is_none_or(|o| o.contains(&d.id));
     let mine = |index: usize| options.shard.is_none_or(|s| s.contains(index));
     let todo = designs
@@ -261,28 +278,39 @@ pub fn run(
         progress,
         valid.len() + invalid.len(),
     );
-    for row in invalid {
-        sink.push(row);
-    }
-    let run_start = Instant::now();
     let job = Job {
         plan,
         columns: &columns,
         dir,
         stop: options.stop.as_deref(),
+        failed: AtomicBool::new(false),
+        field_error: Mutex::new(None),
     };
+    for row in invalid {
+        sink.push(row, &job.failed);
+    }
+    let run_start = Instant::now();
     pool.install(|| {
         valid.par_iter().with_max_len(1).for_each(|(d, scene)| {
             if let Some(row) = run_guarded(&job, d, scene) {
-                sink.push(row);
+                sink.push(row, &job.failed);
             }
         });
     });
     let stopped = job.stopped();
     let run_wall_s = run_start.elapsed().as_secs_f64();
     let state = sink.state.into_inner().unwrap_or_else(|e| e.into_inner());
-    if let Some(e) = state.error {
-        return Err(SweepError::Run(e));
+    let field_error = job
+        .field_error
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner());
+    if let Some(e) = state.error.or(field_error) {
+        return Err(SweepError::Run(format!(
+            "{e}; the sweep stopped there: the {} rows written before are kept in {}, and \
+             --resume runs the rest once the folder can be written",
+            kept_count + state.rows.len(),
+            dir.join("results.csv").display()
+        )));
     }
     let ran = (state.rows.iter())
         .filter(|r| r.verdict != Verdict::Invalid)

@@ -13,7 +13,7 @@ use super::field::StoredField;
 use super::folder_error::{StoreError, write_atomic};
 use super::grid::Design;
 use super::plan::Plan;
-use super::rows::{LATER_COLUMNS, Row, column_names, csv_header, round_to};
+use super::rows::{LATER_COLUMNS, Row, column_names, csv_header, csv_line, round_to};
 use super::shard::Shard;
 use crate::verdict::Verdict;
 
@@ -57,12 +57,21 @@ pub fn prepare_dir(dir: &Path, plan: &Plan, shard: Option<Shard>) -> Result<(), 
     write_atomic(&dir.join("sweep.lock"), &(text + "\n"))
 }
 
-/// Writes `results.csv` whole: the header and `rows`.
-pub fn write_rows(dir: &Path, plan: &Plan, rows: &[Row]) -> Result<PathBuf, StoreError> {
+/// Writes `results.csv` whole: the header, `rows`, then `others` (rows of other grids the
+/// folder held, as they were: see [`ReadReport::others`]).
+pub fn write_rows(
+    dir: &Path,
+    plan: &Plan,
+    rows: &[Row],
+    others: &[Vec<String>],
+) -> Result<PathBuf, StoreError> {
     let path = dir.join("results.csv");
     let mut text = csv_header(&plan.columns()) + "\n";
     for r in rows {
         text.push_str(&r.to_csv());
+    }
+    for fields in others {
+        text.push_str(&csv_line(fields));
     }
     write_atomic(&path, &text)?;
     Ok(path)
@@ -75,7 +84,9 @@ pub struct ReadReport {
     pub kept: usize,
     /// A last line without its newline (the program was stopped while writing it).
     pub truncated: usize,
-    /// Rows whose design is not in this grid, or that do not parse.
+    /// Rows whose design is not in this grid, or that do not parse: not this sweep's, but
+    /// kept in `results.csv` as they are (a frontier's runs between the grid's values, a
+    /// grid's values since removed), never dropped.
     pub foreign: usize,
     /// Rows of a design already read.
     pub duplicates: usize,
@@ -85,22 +96,22 @@ pub struct ReadReport {
     /// run again.
     pub edited: usize,
     /// Rows of designs whose values are in the grid under another number (the grid grew or
-    /// shrank): kept, their files renamed to the new id.
+    /// shrank, or a frontier's lattice holds the grid): kept, their files copied to the new
+    /// id (the old ones stay, for what refers to them).
     pub renumbered: usize,
+    /// The fields of the [`ReadReport::foreign`] rows, laid out under this sweep's header.
+    pub others: Vec<Vec<String>>,
 }
 
 impl ReadReport {
     pub fn dropped(&self) -> usize {
-        self.truncated + self.foreign + self.duplicates + self.no_field + self.edited
+        self.truncated + self.duplicates + self.no_field + self.edited
     }
 
     pub fn describe(&self) -> String {
         let mut parts = Vec::new();
         if self.truncated > 0 {
             parts.push(format!("{} half-written last line", self.truncated));
-        }
-        if self.foreign > 0 {
-            parts.push(format!("{} not of this grid", self.foreign));
         }
         if self.duplicates > 0 {
             parts.push(format!("{} duplicate", self.duplicates));
@@ -121,6 +132,14 @@ impl ReadReport {
             )
         } else {
             format!("kept {} rows", self.kept)
+        };
+        let kept = if self.foreign > 0 {
+            format!(
+                "{kept} ({} more of another grid left in results.csv as they are)",
+                self.foreign
+            )
+        } else {
+            kept
         };
         if parts.is_empty() {
             kept
@@ -157,6 +176,7 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
         return Ok((Vec::new(), report));
     };
     check_header(&path, dir, plan, &header_fields)?;
+    let expected = column_names(&plan.columns());
     let header: HashMap<&str, usize> = header_fields
         .iter()
         .enumerate()
@@ -173,13 +193,24 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
     let mut seen = HashSet::new();
     let mut rows = Vec::new();
     for record in reader.records() {
-        let row = record
-            .ok()
-            .filter(|f| f.len() == header_fields.len())
-            .map(|f| renumbered(dir, &header, f, &grid, &by_values, &mut report))
-            .and_then(|f| Row::from_csv(&header, &f, plan, &columns, &grid));
+        let Ok(record) = record else {
+            report.truncated += 1;
+            continue;
+        };
+        let whole = record.len() == header_fields.len();
+        let record = if whole {
+            renumbered(dir, &header, record, &grid, &by_values, &mut report)
+        } else {
+            record
+        };
+        let row = Some(&record)
+            .filter(|_| whole)
+            .and_then(|f| Row::from_csv(&header, f, plan, &columns, &grid));
         let Some(row) = row else {
             report.foreign += 1;
+            report
+                .others
+                .push(laid_out(&record, &header_fields, &expected));
             continue;
         };
         if !seen.insert(row.design.clone()) {
@@ -193,7 +224,38 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
         }
     }
     report.kept = rows.len();
+    if report.foreign > 0 && !same_layout(&header_fields, &expected) {
+        return Err(StoreError::Header {
+            path,
+            problem: format!(
+                "{} rows of another grid, whose columns are not this sweep's (they would be \
+                 lost under its header)",
+                report.foreign
+            ),
+            expected: expected.join(","),
+        });
+    }
     Ok((rows, report))
+}
+
+/// Whether rows under `found` can be written under `expected`: the same columns, or the same
+/// with later columns missing at the end (see [`LATER_COLUMNS`]).
+fn same_layout(found: &csv::StringRecord, expected: &[String]) -> bool {
+    found.len() <= expected.len() && found.iter().zip(expected).all(|(a, b)| a == b)
+}
+
+/// A record of another grid as it is written back under `expected`: padded with empty fields
+/// for the later columns its header lacked.
+fn laid_out(
+    record: &csv::StringRecord,
+    found: &csv::StringRecord,
+    expected: &[String],
+) -> Vec<String> {
+    let mut fields: Vec<String> = record.iter().map(String::from).collect();
+    if record.len() == found.len() && same_layout(found, expected) {
+        fields.resize(expected.len(), String::new());
+    }
+    fields
 }
 
 /// The record of a design whose values are in the grid under another id (its number moved
@@ -218,13 +280,14 @@ fn renumbered(
         return record;
     };
     let new = design.id.as_str();
+    // Copied, not moved: a frontier's files (and the explorer's table) name the old id.
     let moved_field = StoredField::read(dir, &old).ok().is_some_and(|mut field| {
         field.design = new.to_string();
-        field.write(dir).is_ok() && fs::remove_file(StoredField::path(dir, &old)).is_ok()
+        field.write(dir).is_ok()
     });
     let (old_map, new_map) = (format!("maps/{old}.png"), format!("maps/{new}.png"));
     if dir.join(&old_map).exists() {
-        let _ = fs::rename(dir.join(&old_map), dir.join(&new_map));
+        let _ = fs::copy(dir.join(&old_map), dir.join(&new_map));
     }
     if moved_field {
         report.renumbered += 1;
@@ -402,16 +465,17 @@ pub(super) fn rows_error(e: StoreError) -> SweepError {
     }
 }
 
-/// Prepares the folder and writes `results.csv` anew with the rows kept (a half-written line
-/// or a duplicate goes); returns it open for appending.
+/// Prepares the folder and writes `results.csv` anew with the rows kept and those of other
+/// grids (a half-written line or a duplicate goes); returns it open for appending.
 pub fn open_rows(
     plan: &Plan,
     dir: &Path,
     shard: Option<Shard>,
     kept: &[Row],
+    others: &[Vec<String>],
 ) -> Result<fs::File, SweepError> {
     prepare_dir(dir, plan, shard).map_err(SweepError::Folder)?;
-    let path = write_rows(dir, plan, kept).map_err(|e| {
+    let path = write_rows(dir, plan, kept, others).map_err(|e| {
         SweepError::BadInput(format!(
             "{}: cannot write the output folder: {e}",
             dir.display()
