@@ -21,6 +21,25 @@ impl fmt::Display for Num {
     }
 }
 
+/// A figure to `decimals` places, as `{:.decimals$}` prints it, unless it is too large to read
+/// in fixed digits (|v| ≥ 1e9: `1.23e300`, not 301 digits); never `-0.0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fixed(pub f64, pub usize);
+
+impl fmt::Display for Fixed {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (v, d) = (self.0 + 0.0, self.1);
+        if v.is_finite() && v.abs() >= 1e9 {
+            return write!(f, "{v:.2e}");
+        }
+        let text = format!("{v:.d$}");
+        match text.strip_prefix('-') {
+            Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => f.write_str(rest),
+            _ => f.write_str(&text),
+        }
+    }
+}
+
 /// Bytes as a person reads them: `712 MiB`, `21.3 GiB`, `2.1e4 TiB`.
 pub fn show_bytes(bytes: f64) -> String {
     let units = [
@@ -60,5 +79,8 @@ mod tests {
         assert_eq!(Num(1e-9).to_string(), "1e-9");
         assert_eq!(Num(-0.0).to_string(), "0");
         assert_eq!(Num(2.5).to_string(), "2.5");
+        assert_eq!(Fixed(1e300, 1).to_string(), "1.00e300");
+        assert_eq!(Fixed(-0.001, 1).to_string(), "0.0");
+        assert_eq!(Fixed(12.345, 2).to_string(), "12.35");
     }
 }

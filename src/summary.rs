@@ -110,7 +110,7 @@ impl RunSummary {
         let wrinkle_err_mm = wrinkle.zip(error).map(|((w, _), e)| e.wrinkle_mm(w));
         let facts = Facts {
             converged: result.converged,
-            no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape(_))),
+            no_answer: matches!(result.failure, Some(DrawingFailure::NoUniqueShape { .. })),
             unsound: &unsound,
             figures: Figures {
                 max_shear_deg,

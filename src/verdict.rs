@@ -19,6 +19,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::scene::Scene;
+use crate::show::{Fixed, Num};
 
 /// The verdict on one design. Verdicts order best first (feasible, infeasible, failed,
 /// invalid): rankings sort by it.
@@ -261,23 +262,26 @@ impl Judged {
                 let mut why = Vec::new();
                 if self.over.shear() {
                     why.push(format!(
-                        "the locking angle {}° lies within the max shear {:.1}° ± {:.1}°",
-                        limits.locking_angle_deg, figures.max_shear_deg, figures.max_shear_err_deg
+                        "the locking angle {}° lies within the max shear {}° ± {}°",
+                        Num(limits.locking_angle_deg),
+                        Fixed(figures.max_shear_deg, 1),
+                        Fixed(figures.max_shear_err_deg, 1)
                     ));
                 }
                 if self.over.tension() {
                     why.push(format!(
-                        "the break tension {} N lies within the max tension {:.0} N ± {:.0} %",
-                        limits.break_tension_n, figures.max_tension_n, figures.max_tension_err_pct
+                        "the break tension {} N lies within the max tension {} N ± {} %",
+                        Num(limits.break_tension_n),
+                        Fixed(figures.max_tension_n, 0),
+                        Fixed(figures.max_tension_err_pct, 0)
                     ));
                 }
                 if self.over.wrinkles() {
                     why.push(format!(
-                        "the wrinkle limit {} mm lies within the wrinkle amplitude {:.2} mm ± \
-                         {:.2} mm",
-                        limits.wrinkle_limit_mm,
-                        figures.max_wrinkle_mm.unwrap_or(0.0),
-                        figures.max_wrinkle_err_mm
+                        "the wrinkle limit {} mm lies within the wrinkle amplitude {} mm ± {} mm",
+                        Num(limits.wrinkle_limit_mm),
+                        Fixed(figures.max_wrinkle_mm.unwrap_or(0.0), 2),
+                        Fixed(figures.max_wrinkle_err_mm, 2)
                     ));
                 }
                 format!("MARGINAL: {}", why.join("; "))

@@ -9,6 +9,8 @@ use serde::Serialize;
 use super::scene_args::{OutArgs, SceneFileArgs};
 use super::{CliError, outputs};
 use wovenform::core::cantilever::{CantileverProblem, CantileverResult};
+use wovenform::scene::{Override, specimen};
+use wovenform::show::{Fixed, Num};
 
 #[derive(Args, Debug)]
 pub struct CantileverArgs {
@@ -58,36 +60,24 @@ fn peirce_rigidity(l: f64, phi: f64, w: f64) -> f64 {
     w * l.powi(3) * (0.5 * phi).cos() / (8.0 * phi.tan())
 }
 
-/// The test the arguments and the scene describe; an error names the key the scene lacks.
+/// The test the arguments and the scene describe, every bound checked before any work; an
+/// error names the option, or the key and who set it (a `--set`, else the scene file).
 fn problem(
     args: &CantileverArgs,
     scene: &wovenform::scene::Scene,
 ) -> Result<CantileverProblem, CliError> {
-    let missing = |key: &str, what: &str| {
-        CliError::bad_input(format!(
-            "{}: {key} is not set: the cantilever needs the fabric's {what}",
-            args.scene.scene.display()
-        ))
-    };
-    let f = &scene.fabric;
-    let rigidity = (f.bending_rigidity).ok_or_else(|| {
-        missing(
-            "fabric.bending_rigidity",
-            "bending rigidity [B1, B2] (N·mm)",
-        )
-    })?;
-    let mass = (f.areal_mass).ok_or_else(|| missing("fabric.areal_mass", "areal mass (g/m²)"))?;
-    let bending = scene.bending().expect("bending rigidity is set");
-    Ok(CantileverProblem {
-        fabric: scene.to_cell_params(),
-        bending_rigidity: rigidity,
-        compression: bending.compression,
-        areal_mass_g_m2: mass,
-        length: args.length,
-        width: args.width,
-        element_size: args.element_size,
-        solver: scene.to_problem().solver,
-    })
+    let overrides = (args.scene.set.set.iter())
+        .map(|s| s.parse::<Override>())
+        .collect::<Result<Vec<_>, _>>()?;
+    let origin = args.scene.scene.display().to_string();
+    let origin_of = |keys: &[&str]| wovenform::scene::blame(&overrides, &origin, keys);
+    let size = [args.length, args.width];
+    Ok(specimen::cantilever_problem(
+        scene,
+        size,
+        args.element_size,
+        &origin_of,
+    )?)
 }
 
 pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
@@ -153,17 +143,22 @@ fn print_text(
     wall_s: f64,
 ) {
     println!(
-        "strip        {} mm overhang × {} mm, B = {b} N·mm, {mass} g/m² (bending length c = {c:.2} mm)",
-        args.length, args.width
+        "strip        {} mm overhang × {} mm, B = {} N·mm, {} g/m² (bending length c = {} mm)",
+        Num(args.length),
+        Num(args.width),
+        Num(b),
+        Num(mass),
+        Fixed(c, 2)
     );
     println!(
         "tip          {:.3} mm below the clamp, {:.3} mm out; its slope {:.2}°, the chord {:.2}°",
         r.tip_deflection_mm, r.tip_reach_mm, r.tip_angle_deg, r.chord_angle_deg
     );
     println!(
-        "Peirce       this chord reads B = {peirce:.4} N·mm ((L/c)³ = 8 tan φ / cos(φ/2)); the \
-         standard overhang, 41.5° of chord, is at L = 2c = {:.1} mm",
-        2.0 * c
+        "Peirce       this chord reads B = {} N·mm ((L/c)³ = 8 tan φ / cos(φ/2)); the \
+         standard overhang, 41.5° of chord, is at L = 2c = {} mm",
+        Fixed(peirce, 4),
+        Fixed(2.0 * c, 1)
     );
     println!(
         "solver       {} Newton iterations, {} load steps, {wall_s:.2} s",

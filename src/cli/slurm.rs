@@ -204,7 +204,8 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
         }
         Some(key) => {
             // A task searches whole combinations: no more tasks than combinations.
-            let lattice = wovenform::study::frontier::Lattice::new(&plan, key)?;
+            let lattice =
+                wovenform::study::frontier::Lattice::asked_with(&plan, key, "--frontier")?;
             let combos = lattice.combos.len();
             (lattice.plan, RUNS_PER_COMBINATION * combos, combos)
         }

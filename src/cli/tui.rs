@@ -52,7 +52,14 @@ pub fn exec(args: TuiArgs) -> Result<(), CliError> {
         .tempdir()
         .map_err(|e| CliError::failed(format!("cannot make the session folder: {e}")))?
         .keep();
-    tui::explore(params, session).map_err(|e| CliError::failed(e.to_string()))
+    tui::explore(params, session).map_err(|e| {
+        let mut error = CliError::failed(e.to_string());
+        // Ended by a signal: the shell's convention, 128 + the signal's number.
+        if let tui::error::TuiError::Signal(s) = e {
+            error.exit_code = u8::try_from(128 + s).unwrap_or(1);
+        }
+        error
+    })
 }
 
 /// No subcommand and no terminal: the law at the paper's reference strains and a pointer to

@@ -22,11 +22,7 @@ pub mod vtu;
 
 /// `v` with `decimals` decimals, never `-0.0` (a tiny negative rounds to a plain zero).
 pub fn fixed(v: f64, decimals: usize) -> String {
-    let text = format!("{v:.decimals$}");
-    match text.strip_prefix('-') {
-        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
-        _ => text,
-    }
+    crate::show::Fixed(v, decimals).to_string()
 }
 
 /// "s" after a count other than one.

@@ -5,6 +5,7 @@ use super::{fixed, plural};
 use std::fmt::Write as _;
 
 use crate::scene::ToolKind;
+use crate::show::Num;
 use crate::summary::RunSummary;
 
 impl RunSummary {
@@ -98,13 +99,15 @@ impl RunSummary {
         let _ = writeln!(
             out,
             "max shear    {:.1}° over one woven cell, around ({x:.1}, {y:.1}, {z:.1}) mm; locking angle {}°; {:.2} % of the blank over it",
-            self.max_shear_deg, self.locking_angle_deg, self.area_over_limit_pct
+            self.max_shear_deg,
+            Num(self.locking_angle_deg),
+            self.area_over_limit_pct
         );
         let _ = writeln!(
             out,
             "max tension  {} N per yarn over one woven cell; break tension {} N ({:.0} %)",
             fixed(self.max_tension_n, 1),
-            self.break_tension_n,
+            Num(self.break_tension_n),
             100.0 * self.max_tension_n / self.break_tension_n
         );
         self.write_wrinkles(out);
@@ -148,7 +151,7 @@ impl RunSummary {
             out,
             "wrinkles     {w:.2}{err} mm peak to valley along a yarn off the tools, around \
              ({x:.1}, {y:.1}, {z:.1}) mm; wrinkle limit {} mm",
-            self.wrinkle_limit_mm
+            Num(self.wrinkle_limit_mm)
         );
     }
 

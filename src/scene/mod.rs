@@ -62,13 +62,13 @@ use crate::core::law::CellParams;
 
 pub use keys::{differences, lookup, unset_key_shape};
 pub use mesh_tools::forget_mesh_tools;
-pub use overrides::{Override, merge_tables};
+pub use overrides::{Override, blame, expand_dotted_keys, merge_tables};
 pub use types::{
     Blank, DEFAULT_BOX_RADII, Fabric, MeshSettings, Num, Numerics, PerYarn, PlanPair, Process,
     SymmetryChoice, ToolKind, Tools,
 };
 
-use overrides::{apply_override, blame, structural_error};
+use overrides::{apply_override, structural_error};
 use types::default_problem;
 
 /// What a scene error points at when there is no file.
@@ -137,6 +137,13 @@ impl Scene {
             origin: origin.to_string(),
             key: None,
             detail: format!("not valid TOML: {}", e.to_string().trim_end()),
+        })?;
+        expand_dotted_keys(&mut table).map_err(|key| SceneError {
+            origin: origin.to_string(),
+            detail: format!(
+                "\"{key}\" is given twice: as a quoted dotted key and in its table; expected one"
+            ),
+            key: Some(key),
         })?;
         for o in overrides {
             apply_override(&mut table, o)?;

@@ -60,12 +60,17 @@ impl FromStr for Override {
             .filter(|t| t.len() == 1)
             .and_then(|mut t| t.remove("v"))
             .ok_or_else(|| {
+                let v = value.trim();
+                let digits = v.trim_start_matches(['+', '-']);
+                let expected = if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) {
+                    "expected a whole number from −2⁶³ to 2⁶³ − 1 = 9223372036854775807 (the \
+                     largest TOML takes)"
+                } else {
+                    "expected a TOML literal (a number, true/false, [a, b], or a \"quoted string\")"
+                };
                 err(
                     Some(key.to_string()),
-                    format!(
-                        "{key} = {}: expected a TOML literal (a number, true/false, [a, b], or a \"quoted string\")",
-                        excerpt(value.trim())
-                    ),
+                    format!("{key} = {}: {expected}", excerpt(v)),
                 )
             })?;
         Ok(Override {
@@ -102,7 +107,7 @@ fn excerpt_long(text: &str) -> String {
 
 /// Who set the keys: the last override that [`touches`] any of them, else `origin` (the file,
 /// or [`super::DEFAULT_ORIGIN`]). Shown as `--set KEY=VALUE`.
-pub(super) fn blame(overrides: &[Override], origin: &str, keys: &[&str]) -> String {
+pub fn blame(overrides: &[Override], origin: &str, keys: &[&str]) -> String {
     overrides
         .iter()
         .rev()
@@ -121,6 +126,40 @@ fn touches(set: &str, key: &str) -> bool {
             .is_some_and(|rest| rest.starts_with(marks))
     };
     set == key || below(key, set, &['.', '[']) || below(set, key, &['.'])
+}
+
+/// Writes each quoted dotted key of `table` (`"process.stroke" = 12.0`, the spelling a
+/// `[sweep]` table takes) as the nested key it names (`[process] stroke = 12.0`), at every
+/// level; the key when it is also given the other way (`Err` holds it).
+pub fn expand_dotted_keys(table: &mut toml::Table) -> Result<(), String> {
+    let dotted: Vec<String> = (table.keys())
+        .filter(|k| k.contains('.') && is_dotted_key(k))
+        .cloned()
+        .collect();
+    for key in dotted {
+        let value = table.remove(&key).expect("a key of the table");
+        let parts: Vec<&str> = key.split('.').collect();
+        let (last, parents) = parts.split_last().expect("a dotted key has parts");
+        let mut t = &mut *table;
+        for p in parents {
+            let entry = t
+                .entry(p.to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+            match entry {
+                toml::Value::Table(inner) => t = inner,
+                _ => return Err(key),
+            }
+        }
+        if t.insert(last.to_string(), value).is_some() {
+            return Err(key);
+        }
+    }
+    for (_, value) in table.iter_mut() {
+        if let toml::Value::Table(inner) = value {
+            expand_dotted_keys(inner)?;
+        }
+    }
+    Ok(())
 }
 
 /// Sets `o.key` in the table, creating intermediate tables as needed.
@@ -201,7 +240,7 @@ pub(super) fn structural_error(
         .map(|v| format!(" = {}", excerpt(&v.to_string())))
         .unwrap_or_default();
     // serde's message may quote the value too.
-    let message = excerpt_long(message);
+    let message = length_message(path, message).unwrap_or_else(|| excerpt_long(message));
     SceneError {
         origin: origin_of(path),
         detail: format!("{}{shown}: {message}", excerpt(path)),
@@ -209,10 +248,52 @@ pub(super) fn structural_error(
     }
 }
 
+/// serde's "invalid length 3, expected fewer elements in array" for a key of a fixed number
+/// of values, said as what the key takes: "3 values: expected 2 numbers ([B1, B2]…)".
+fn length_message(path: &str, message: &str) -> Option<String> {
+    let given = message.strip_prefix("invalid length ")?.split(',').next()?;
+    let shape = super::keys::unset_key_shape(path).or_else(|| {
+        let defaults = toml::Table::try_from(super::Scene::default()).ok()?;
+        lookup(&defaults, path).cloned()
+    });
+    let n = match shape {
+        Some(toml::Value::Array(values)) => values.len(),
+        // A key of another kind of tool than the default's: serde says the length.
+        _ => message.split("of length ").nth(1)?.trim().parse().ok()?,
+    };
+    let word = ["no", "one", "two", "three", "four"]
+        .get(n)
+        .copied()
+        .unwrap_or("several");
+    let names = match path {
+        "fabric.bending_rigidity" => "[B1, B2] in N·mm".to_string(),
+        "fabric.compressive_stiffness" => "[Cc1, Cc2] in N".to_string(),
+        "fabric.shear_moment" => "[k1, k3, k5] in N·mm/mm²".to_string(),
+        "tools.axes" => "[ax, ay, az] in mm".to_string(),
+        _ => format!("[{}]", vec!["x"; n].join(", ")),
+    };
+    Some(format!(
+        "{given} values: expected {word} numbers in brackets, {names}"
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::parse;
     use super::*;
+
+    #[test]
+    fn a_list_of_the_wrong_length_says_how_many_values_the_key_takes() {
+        let e = parse("", &["fabric.bending_rigidity=[0.1,0.1,0.1]"]).unwrap_err();
+        assert!(e.origin.starts_with("--set fabric.bending_rigidity"), "{e}");
+        assert!(
+            e.detail
+                .ends_with("3 values: expected two numbers in brackets, [B1, B2] in N·mm"),
+            "{e}"
+        );
+        let e = parse("[tools]\nkind = \"ellipsoid\"\naxes = [1.0, 2.0]\n", &[]).unwrap_err();
+        assert!(e.detail.contains("expected three numbers"), "{e}");
+    }
 
     #[test]
     fn a_table_sets_its_keys_and_keeps_the_files_others() {
@@ -304,6 +385,19 @@ mod tests {
         let e = parse("", &["fabric.l0=[1,\"x\"]"]).unwrap_err();
         assert_eq!(e.origin, "--set fabric.l0=[1,\"x\"]", "{e}");
         assert_eq!(e.key.as_deref(), Some("fabric.l0[1]"), "{e}");
+    }
+
+    #[test]
+    fn a_whole_number_past_the_largest_toml_takes_says_so() {
+        let e = "numerics.trigger_seed=9223372036854775808"
+            .parse::<Override>()
+            .unwrap_err();
+        assert!(e.detail.contains("2⁶³ − 1 = 9223372036854775807"), "{e}");
+        assert!(
+            "numerics.trigger_seed=9223372036854775807"
+                .parse::<Override>()
+                .is_ok()
+        );
     }
 
     #[test]

@@ -12,6 +12,9 @@ use super::{Scene, SceneError};
 
 /// The shortest punch stroke, mm.
 pub const MIN_STROKE_MM: f64 = 0.01;
+/// The stiffest bending rigidity a scene takes, N·mm per unit width: a steel sheet 1.7 mm
+/// thick (`E t³ / 12(1 − ν²)`); woven fabrics measure 0.01 to 100.
+pub const MAX_BENDING_NMM: f64 = 1e5;
 
 /// A broken bound: the key blamed, the keys involved (to find who set them) and the message
 /// (which starts with the key).
@@ -177,9 +180,10 @@ impl Scene {
         let f = &self.fabric;
         if let Some(b) = f.bending_rigidity {
             ok_if(
-                b.iter().all(|&v| non_neg(v)) && b.iter().any(|&v| pos(v)),
+                b.iter().all(|&v| non_neg(v) && v <= MAX_BENDING_NMM) && b.iter().any(|&v| pos(v)),
                 || {
-                    let what = "[B1, B2] in N·mm per unit width, each ≥ 0 and one > 0";
+                    let what = "[B1, B2] in N·mm per unit width, each ≥ 0 and one > 0, at most \
+                                1e5 (a steel sheet 1.7 mm thick; fabrics are 0.01 to 100)";
                     broken("fabric.bending_rigidity", PerYarn(b), what)
                 },
             )?;

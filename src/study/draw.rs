@@ -58,7 +58,7 @@ impl Drawn {
             return None;
         }
         let what = match self.result.failure {
-            Some(DrawingFailure::NoUniqueShape(_)) => "the drawing has no answer",
+            Some(DrawingFailure::NoUniqueShape { .. }) => "the drawing has no answer",
             _ => "the drawing did not converge",
         };
         let cause =

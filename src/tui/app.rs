@@ -624,10 +624,18 @@ impl App {
             let limits = Limits::of(&self.params.plan.base_scene);
             let old = Limits::of(&self.table_plan.base_scene);
             let words = [
-                (old.locking_angle_deg != limits.locking_angle_deg)
-                    .then(|| format!("the locking angle of {}°", limits.locking_angle_deg)),
-                (old.break_tension_n != limits.break_tension_n)
-                    .then(|| format!("the break tension of {} N", limits.break_tension_n)),
+                (old.locking_angle_deg != limits.locking_angle_deg).then(|| {
+                    format!(
+                        "the locking angle of {}°",
+                        crate::show::Num(limits.locking_angle_deg)
+                    )
+                }),
+                (old.break_tension_n != limits.break_tension_n).then(|| {
+                    format!(
+                        "the break tension of {} N",
+                        crate::show::Num(limits.break_tension_n)
+                    )
+                }),
             ];
             for e in &mut self.entries {
                 e.limits = limits;

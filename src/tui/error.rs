@@ -58,4 +58,7 @@ pub enum TuiError {
     /// Reading the keys failed.
     #[error("{0}")]
     Events(std::io::Error),
+    /// Ended from outside by a signal (SIGTERM, SIGHUP, SIGINT), the terminal restored.
+    #[error("ended by signal {0} (the terminal is restored; the finished rows are kept)")]
+    Signal(i32),
 }

@@ -57,7 +57,7 @@ impl App {
             return Command::None;
         };
         let plan = self.params.plan.clone();
-        let lattice = match Lattice::new(&plan, &column) {
+        let lattice = match Lattice::asked_with(&plan, &column, "the boundary along") {
             Ok(l) => l,
             Err(e) => {
                 self.status = format!("b: {e}");

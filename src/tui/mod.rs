@@ -14,6 +14,7 @@ mod keys;
 pub mod params;
 mod runs;
 pub mod shear_map;
+mod signals;
 mod style;
 pub mod view;
 pub mod worker;
@@ -27,6 +28,7 @@ use std::time::{Duration, Instant};
 
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
+use ratatui::crossterm::cursor::Show;
 use ratatui::crossterm::event::{self, Event, KeyEventKind};
 use ratatui::crossterm::execute;
 use ratatui::crossterm::terminal::{
@@ -65,7 +67,7 @@ pub fn source_of_file(path: &std::path::Path) -> Result<Source, TuiError> {
 
 fn restore() {
     let _ = disable_raw_mode();
-    let _ = execute!(io::stdout(), LeaveAlternateScreen);
+    let _ = execute!(io::stdout(), LeaveAlternateScreen, Show);
 }
 
 /// Restores the terminal on a panic of the interface thread (a panic on a worker is caught
@@ -93,6 +95,7 @@ pub fn explore(params: Parameters, session: PathBuf) -> Result<(), TuiError> {
         return Err(TuiError::Terminal(e));
     }
     install_panic_hook();
+    signals::install();
     let outcome = Terminal::new(CrosstermBackend::new(io::stdout()))
         .map_err(TuiError::Draw)
         .and_then(|mut terminal| event_loop(&mut terminal, &mut app));
@@ -113,7 +116,10 @@ pub fn explore(params: Parameters, session: PathBuf) -> Result<(), TuiError> {
         // Nothing was run: leave no empty session folder behind (it is removed only if empty).
         let _ = std::fs::remove_dir(&session);
     }
-    outcome
+    match signals::received() {
+        Some(signal) => Err(TuiError::Signal(signal)),
+        None => outcome,
+    }
 }
 
 fn event_loop(
@@ -129,11 +135,19 @@ fn event_loop(
         while let Ok(m) = rx.try_recv() {
             app.on_message(m);
         }
+        if signals::received().is_some() {
+            stop_worker(&stop);
+            return Ok(());
+        }
         terminal
             .draw(|f| f.render_widget(&*app, f.area()))
             .map_err(TuiError::Draw)?;
-        if !event::poll(Duration::from_millis(100)).map_err(TuiError::Events)? {
-            continue;
+        // A signal interrupts the wait: the loop's next turn sees it.
+        match event::poll(Duration::from_millis(100)) {
+            Ok(true) => {}
+            Ok(false) => continue,
+            Err(_) if signals::received().is_some() => continue,
+            Err(e) => return Err(TuiError::Events(e)),
         }
         let Event::Key(key) = event::read().map_err(TuiError::Events)? else {
             continue;
@@ -144,16 +158,10 @@ fn event_loop(
         match app.on_key(key) {
             Command::None => {}
             Command::Quit => {
-                if let Some(s) = &stop {
-                    s.store(true, Ordering::Relaxed);
-                }
+                stop_worker(&stop);
                 return Ok(());
             }
-            Command::Cancel => {
-                if let Some(s) = &stop {
-                    s.store(true, Ordering::Relaxed);
-                }
-            }
+            Command::Cancel => stop_worker(&stop),
             Command::Start {
                 plan,
                 dir,
@@ -174,6 +182,13 @@ fn event_loop(
                 worker::start_design_files(design, *scene, dir, tx.clone())
             }
         }
+    }
+}
+
+/// Asks the running sweep or frontier, if any, to stop (its finished rows are kept).
+fn stop_worker(stop: &Option<Arc<AtomicBool>>) {
+    if let Some(s) = stop {
+        s.store(true, Ordering::Relaxed);
     }
 }
 

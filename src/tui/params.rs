@@ -125,6 +125,9 @@ pub fn parse_list(text: &str, base: &toml::Value) -> Result<Vec<toml::Value>, Pa
     if let Some(range) = range_values(t) {
         return range.map(|v| v.into_iter().map(toml::Value::Float).collect());
     }
+    if let toml::Value::String(_) = base {
+        return word_list(t);
+    }
     let doc: toml::Table = format!("v = [{t}]").parse().map_err(|_| {
         ParamError::Text(format!(
             "{t:?}: expected values separated by commas, e.g. 5, 7.5, 10 or 5..10/3"
@@ -152,6 +155,23 @@ pub fn parse_list(text: &str, base: &toml::Value) -> Result<Vec<toml::Value>, Pa
                 show_value(v),
                 show_value(base)
             )),
+        })
+        .collect()
+}
+
+/// Words typed for a key whose values are words (`auto, full`; quotes may be typed too).
+fn word_list(text: &str) -> Result<Vec<toml::Value>, ParamError> {
+    text.split(',')
+        .map(|w| {
+            let w = w.trim();
+            let bare = (w.strip_prefix('"').and_then(|w| w.strip_suffix('"'))).unwrap_or(w);
+            if bare.is_empty() || bare.contains('"') {
+                Err(ParamError::Text(format!(
+                    "{text:?}: expected words separated by commas, e.g. auto, full"
+                )))
+            } else {
+                Ok(toml::Value::String(bare.to_string()))
+            }
         })
         .collect()
 }
@@ -232,7 +252,7 @@ impl Parameters {
             target: Target::LockingAngle,
             label: "locking".into(),
             unit: "°",
-            text: show_value(&toml::Value::Float(limits.locking_angle_deg)),
+            text: crate::show::Num(limits.locking_angle_deg).to_string(),
         });
         // The break tension is a limit, like the locking angle, unless the sweep varies it.
         if !plan.axes.iter().any(|a| a.key == BREAK_KEY) {
@@ -240,7 +260,7 @@ impl Parameters {
                 target: Target::BreakTension,
                 label: "break".into(),
                 unit: "N",
-                text: show_value(&toml::Value::Float(limits.break_tension_n)),
+                text: crate::show::Num(limits.break_tension_n).to_string(),
             });
         }
         fields.push(Field {
@@ -278,7 +298,12 @@ impl Parameters {
         for f in &self.fields {
             if let Target::Axis { column, key } = &f.target {
                 let base = self.base_value(key);
-                let values = parse_list(&f.text, &base)?;
+                let values = parse_list(&f.text, &base).map_err(|e| {
+                    ParamError::Plan(format!(
+                        "{}: [sweep] {column}: {e}",
+                        self.source.path.display()
+                    ))
+                })?;
                 sweep.insert(column.clone(), toml::Value::Array(values));
             }
         }
@@ -347,7 +372,11 @@ impl Parameters {
                         "{total} designs: the explorer runs at most {MAX_DESIGNS}; use `wovenform sweep` for more"
                     )));
                 }
-                Ok(())
+                // What only the whole plan sees (a value given twice, a pair of keys that
+                // cannot go together): as Enter would find it.
+                let mut edited = self.clone();
+                edited.fields[index].text = text.to_string();
+                edited.build().map(|_| ())
             }
         }
     }
@@ -364,11 +393,11 @@ impl Parameters {
             }
             Target::LockingAngle => {
                 self.limits.locking_angle_deg = limit_value(text, "a number")?;
-                field.text = show_value(&toml::Value::Float(self.limits.locking_angle_deg));
+                field.text = crate::show::Num(self.limits.locking_angle_deg).to_string();
             }
             Target::BreakTension => {
                 self.limits.break_tension_n = limit_value(text, "a number")?;
-                field.text = show_value(&toml::Value::Float(self.limits.break_tension_n));
+                field.text = crate::show::Num(self.limits.break_tension_n).to_string();
             }
             Target::Axis { ref key, .. } => {
                 let base = old.base_value(key);
@@ -450,6 +479,37 @@ mod tests {
                 .to_string()
                 .contains("expected a number")
         );
+    }
+
+    #[test]
+    fn a_sweep_of_words_opens_and_what_the_plan_refuses_is_shown_before_enter() {
+        let word = toml::Value::String("auto".into());
+        let words = parse_list("auto, \"full\"", &word).unwrap();
+        let expected = ["auto", "full"].map(|w| toml::Value::String(w.into()));
+        assert_eq!(words, expected);
+        assert!(parse_list("auto,, full", &word).is_err());
+        // A sweep file that `sweep` runs, over a key of words, opens with its axis.
+        let doc: toml::Table =
+            "base = \"paper-box-open.toml\"\n[sweep]\nr = [5.0, 10.0]\n\"mesh.symmetry\" = [\"auto\", \"full\"]\n"
+                .parse()
+                .unwrap();
+        let source = Source {
+            path: PathBuf::from("presets/words.toml"),
+            title: "words".into(),
+            doc,
+            embedded: false,
+        };
+        let mut p = Parameters::new(source).unwrap();
+        assert_eq!(p.plan.designs().len(), 4);
+        let symmetry = p.fields.iter().position(|f| f.label == "symmetry").unwrap();
+        assert!(p.check(symmetry, "full").is_ok());
+        // A value typed twice is refused as the user types, as Enter would refuse it.
+        let r = p.fields.iter().position(|f| f.label == "r").unwrap();
+        let e = p.check(r, "4, 4").unwrap_err().to_string();
+        assert!(e.contains("is given twice"), "{e}");
+        assert!(p.commit(r, "4, 4").is_err());
+        assert!(p.commit(symmetry, "full").is_ok());
+        assert_eq!(p.plan.designs().len(), 2);
     }
 
     #[test]

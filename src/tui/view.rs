@@ -103,7 +103,7 @@ fn render_title(app: &App, area: Rect, buf: &mut Buffer, st: &Styles) {
         p.plan.len(),
         p.accuracy,
         err.max_shear_deg,
-        show_value(&toml::Value::Float(p.limits.locking_angle_deg)),
+        crate::show::Num(p.limits.locking_angle_deg),
     );
     Paragraph::new(Line::styled(text, st.title())).render(area, buf);
 }
@@ -254,7 +254,7 @@ fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
     // The wrinkle limit where the fabric bends (the paper's membrane has no wrinkles).
     let bends = app.table_plan.base_scene.fabric.bending_rigidity.is_some();
     let wrinkles = if bends {
-        let w = show_value(&toml::Value::Float(limits.wrinkle_limit_mm));
+        let w = crate::show::Num(limits.wrinkle_limit_mm);
         format!(", wrinkles {w} mm")
     } else {
         String::new()
@@ -262,8 +262,8 @@ fn run_lines<'a>(app: &App, st: &Styles) -> Vec<Line<'a>> {
     lines.push(Line::styled(
         format!(
             "limits: shear {}°, tension {} N{wrinkles}",
-            show_value(&toml::Value::Float(limits.locking_angle_deg)),
-            show_value(&toml::Value::Float(limits.break_tension_n))
+            crate::show::Num(limits.locking_angle_deg),
+            crate::show::Num(limits.break_tension_n)
         ),
         st.dim(),
     ));

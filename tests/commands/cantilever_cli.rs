@@ -85,3 +85,60 @@ fn a_fabric_without_bending_or_mass_or_with_the_woven_law_is_refused_with_exit_2
         );
     }
 }
+
+#[test]
+fn a_strip_too_coarse_too_large_or_without_a_warp_rigidity_is_refused_naming_what() {
+    let d = tempfile::tempdir().unwrap();
+    write_file(d.path(), "glass.toml", FABRIC.as_bytes());
+    let cases: [(&[&str], &str); 6] = [
+        // Elements as long as the overhang would read the tip 25 % off the closed form.
+        (
+            &["--length", "20", "--element-size", "30"],
+            "--element-size of at most 2 mm",
+        ),
+        (&["--length", "0.5"], "at most 0.05 mm"),
+        (&["--length", "1e9"], "--length 1000000000"),
+        (
+            &["--length", "20", "--element-size", "1e-4"],
+            "expected at most 200000",
+        ),
+        (&["--length", "20", "--width", "1e6"], "--width 1000000"),
+        (
+            &[
+                "--length",
+                "20",
+                "--set",
+                "fabric.bending_rigidity=[0,0.08]",
+            ],
+            "--set fabric.bending_rigidity=[0,0.08]: fabric.bending_rigidity",
+        ),
+    ];
+    for (args, said) in cases {
+        let mut all = vec!["cantilever", "glass.toml"];
+        all.extend_from_slice(args);
+        let out = wovenform_in(d.path(), &all);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(said), "{args:?}: {err}");
+    }
+    assert!(!d.path().join("out").exists(), "refused before any work");
+    // At the fewest elements allowed the tip is still within the bound's 1 % (and 1.5 % of
+    // the small-deflection closed form, which the fine mesh meets to 0.05 %).
+    let args = [
+        "cantilever",
+        "glass.toml",
+        "--length",
+        "20",
+        "--element-size",
+        "2",
+    ];
+    let out = wovenform_in(d.path(), &[&args[..], &["--json"]].concat());
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let closed = 300.0 * 1e-9 * 9.80665 * 20f64.powi(4) / (8.0 * 0.08);
+    let tip = j["tip_deflection_mm"].as_f64().unwrap();
+    assert!(
+        (tip / closed - 1.0).abs() < 0.015,
+        "{tip} mm against {closed} mm"
+    );
+}

@@ -16,6 +16,7 @@ mod cli;
 mod converge_cli;
 mod frontier_cli;
 mod hostile;
+mod hostile_values;
 mod mesh_hostile_cli;
 mod mesh_scene_cli;
 mod newton_trace_cli;

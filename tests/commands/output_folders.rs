@@ -223,3 +223,49 @@ fn a_frontiers_folder_resumed_as_a_sweep_or_along_another_axis_keeps_every_row()
         }
     }
 }
+
+/// A full disk (a 150 kB tmpfs, mounted where the machine lets this test: CI runs as root)
+/// stops a frontier with an error naming the file: every run announced has its row and its
+/// field, and the rows written are kept.
+#[test]
+fn a_full_disk_stops_a_frontier_naming_the_file_and_loses_no_announced_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let edge = edge_file(d);
+    let full = d.join("full");
+    std::fs::create_dir(&full).unwrap();
+    let mounted = std::process::Command::new("mount")
+        .args(["-t", "tmpfs", "-o", "size=150k", "tmpfs"])
+        .arg(&full)
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !mounted {
+        eprintln!("not checked: this user cannot mount a small tmpfs (CI runs as root and does)");
+        return;
+    }
+    let o = wovenform_in(d, &["frontier", &edge, "--along", "r", "--out", "full/f"]);
+    let rows = std::fs::read_to_string(full.join("f/results.csv")).unwrap_or_default();
+    let fields: Vec<String> = std::fs::read_dir(full.join("f/fields"))
+        .map(|e| {
+            e.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    let _ = std::process::Command::new("umount").arg(&full).status();
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("full/f/") && err.contains("No space left") && err.contains("--resume"),
+        "{err}"
+    );
+    // Each run announced ("[n] design VERDICT") is a row with its field.
+    for line in err.lines().filter(|l| l.starts_with('[')) {
+        let design = line.split_whitespace().nth(1).unwrap();
+        assert!(rows.contains(design), "{design} announced, no row: {rows}");
+        assert!(
+            fields.contains(&format!("{design}.json")),
+            "{design}: no field"
+        );
+    }
+    assert!(rows.lines().count() >= 2, "{rows}");
+}

@@ -364,3 +364,38 @@ fn cancel_stops_the_workers_promptly_and_keeps_the_finished_rows() {
     t.keys("q");
     assert_eq!(t.exit_code(30), 0);
 }
+
+#[test]
+fn sigterm_and_sighup_restore_the_terminal_and_keep_the_rows() {
+    // SIGTERM mid-run (the shell's `kill`), SIGHUP on an idle explorer (a closed window): each
+    // ends it with 128 + the signal, the terminal as a shell wants it back.
+    let cases = [(libc::SIGTERM, true), (libc::SIGHUP, false)];
+    for (signal, mid_run) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let mut t = explorer_on_the_paper_grid(dir.path(), "fine.toml", 1.25);
+        t.settled("ready: r runs 8 designs", 60);
+        if mid_run {
+            t.keys("r");
+            t.wait_for("running:", 60);
+        }
+        let pid = t.child.process_id().expect("the explorer's pid");
+        // SAFETY: a signal sent to the child this test started (and still holds).
+        unsafe { libc::kill(pid as libc::pid_t, signal) };
+        assert_eq!(t.exit_code(30), 128 + signal as u32, "signal {signal}");
+        let screen = t.drained(30);
+        assert!(
+            !screen.alternate_screen(),
+            "signal {signal}: still on the alternate screen"
+        );
+        assert!(
+            !screen.hide_cursor(),
+            "signal {signal}: the cursor is left hidden"
+        );
+        assert!(t.canonical(), "signal {signal}: the terminal was left raw");
+        if mid_run {
+            // The session's run folder is there, with its results file, to resume from.
+            let said = screen.contents();
+            assert!(said.contains("are kept in"), "{said}");
+        }
+    }
+}

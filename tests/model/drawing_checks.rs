@@ -65,7 +65,7 @@ fn a_blank_held_by_nothing_has_no_unique_shape_and_says_so_at_once() {
         assert_eq!(r.stats.newton_iterations, 0, "it tried to solve");
         let failure = r.failure.expect("a failure");
         assert!(
-            matches!(failure, DrawingFailure::NoUniqueShape(_)),
+            matches!(failure, DrawingFailure::NoUniqueShape { .. }),
             "{failure:?}"
         );
         let text = failure.to_string();
@@ -73,7 +73,19 @@ fn a_blank_held_by_nothing_has_no_unique_shape_and_says_so_at_once() {
             text.contains("no unique shape") && text.contains(key),
             "{text}"
         );
+        assert!(text.contains("no shear and no bending stiffness"), "{text}");
     }
+    // With bending the reason is the fabric's shear in its plane, not a lack of bending.
+    let bends = DrawingFailure::NoUniqueShape {
+        why: drawing::Unrestrained::NoHolder,
+        bends: true,
+    }
+    .to_string();
+    assert!(!bends.contains("no bending stiffness"), "{bends}");
+    assert!(
+        bends.contains("in its plane it has no shear stiffness"),
+        "{bends}"
+    );
 }
 
 #[test]

@@ -14,10 +14,10 @@ pub enum Unrestrained {
 /// Why a drawing stopped short or never started.
 #[derive(Clone, Debug, PartialEq)]
 pub enum DrawingFailure {
-    /// The model has no unique answer: the paper's fabric has no shear and no bending
-    /// stiffness, so with nothing to pull against its yarns stay slack and any drape of the
-    /// blank is an equilibrium.
-    NoUniqueShape(Unrestrained),
+    /// The model has no unique answer: the fabric has no shear stiffness in its plane (and,
+    /// without `bends`, no bending stiffness either), so with nothing to pull against its
+    /// yarns stay slack and any drape of the blank is an equilibrium.
+    NoUniqueShape { why: Unrestrained, bends: bool },
     /// An element of the initial mesh is unusable.
     BadElement(BadElement),
     /// The solver stopped short of the full stroke.
@@ -37,7 +37,7 @@ impl DrawingFailure {
 impl std::fmt::Display for DrawingFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            DrawingFailure::NoUniqueShape(why) => {
+            DrawingFailure::NoUniqueShape { why, bends } => {
                 let cause = match why {
                     Unrestrained::NoFriction => {
                         "there is no friction (process.friction = 0), so nothing holds the \
@@ -48,12 +48,18 @@ impl std::fmt::Display for DrawingFailure {
                          flange is pressed by nothing and friction has nothing to act on"
                     }
                 };
+                let fabric = if *bends {
+                    "The fabric's bending stiffness resists only its curvature: in its plane it \
+                     has no shear stiffness"
+                } else {
+                    "The paper's fabric has no shear and no bending stiffness"
+                };
                 write!(
                     f,
-                    "no unique shape: {cause}. The paper's fabric has no shear and no bending \
-                     stiffness, so the yarns stay slack and any drape of the blank is an \
-                     equilibrium: shear and tension are not determined. Set \
-                     process.friction > 0 and process.holder_pressure > 0"
+                    "no unique shape: {cause}. {fabric}, so the yarns stay slack and any drape \
+                     of the blank is an equilibrium: shear and tension are not determined. Set \
+                     process.friction > 0 and process.holder_pressure > 0 (or \
+                     process.holder_force)"
                 )
             }
             DrawingFailure::BadElement(e) => write!(f, "{e}"),

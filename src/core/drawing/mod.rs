@@ -478,7 +478,8 @@ impl DrawingProblem {
     /// has no answer.
     pub fn prepare(&self) -> Result<Prepared, DrawingFailure> {
         if let Some(why) = self.unrestrained() {
-            return Err(DrawingFailure::NoUniqueShape(why));
+            let bends = self.bending.is_some();
+            return Err(DrawingFailure::NoUniqueShape { why, bends });
         }
         self.build()
     }

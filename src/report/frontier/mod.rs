@@ -41,8 +41,14 @@ pub fn resolution_words(f: &Frontier) -> String {
     }
 }
 
+/// A value of the axis: to a tenth of the grid's step, and to three significant digits at
+/// least (a range's end at 0.001 kN on a 2.5 kN step is not "0").
 fn v(f: &Frontier, x: f64) -> String {
-    fixed(x, decimals(f))
+    let mut d = decimals(f);
+    if x != 0.0 && x.is_finite() && x.abs() < 100.0 * 10f64.powi(-(d as i32)) {
+        d = ((2.0 - x.abs().log10()).floor() as usize).clamp(d, 9);
+    }
+    fixed(x, d)
 }
 
 /// A boundary in words: `r ≥ 7.38 mm (shear)`.

@@ -34,9 +34,17 @@ pub struct Lattice {
 
 impl Lattice {
     /// The lattice along `key` (a scene key or a short name swept in the file with two or more
-    /// numbers) of `plan`.
+    /// numbers) of `plan`, asked for with `--along KEY`.
     pub fn new(plan: &Plan, key: &str) -> Result<Lattice, SweepError> {
-        let bad = |detail: String| SweepError::BadInput(format!("{}: {detail}", plan.sweep_file));
+        Lattice::asked_with(plan, key, "--along")
+    }
+
+    /// [`Lattice::new`], the axis named by the option `flag` (`--along`, `slurm --frontier`)
+    /// in errors.
+    pub fn asked_with(plan: &Plan, key: &str, flag: &str) -> Result<Lattice, SweepError> {
+        let bad = |detail: String| {
+            SweepError::BadInput(format!("{}: {flag} {key}: {detail}", plan.sweep_file))
+        };
         let swept: Vec<&str> = plan.axes.iter().map(|a| a.column.as_str()).collect();
         let Some(axis) = plan
             .axes
@@ -44,7 +52,7 @@ impl Lattice {
             .position(|a| a.key == key || a.column == key)
         else {
             return Err(bad(format!(
-                "--along {key}: not a swept key; expected one of the [sweep] table's: {}",
+                "not a swept key; expected one of the [sweep] table's: {}",
                 swept.join(", ")
             )));
         };
@@ -53,12 +61,25 @@ impl Lattice {
         let Some(numbers) = numbers.filter(|n| n.len() >= 2) else {
             let given: Vec<String> = a.values.iter().map(show_value).collect();
             return Err(bad(format!(
-                "--along {key}: sweep.{} = [{}]; expected two or more numbers (the range to \
-                 search, and by their count the resolution)",
+                "sweep.{} = [{}]; expected two or more numbers (the range to search, and by \
+                 their count the resolution)",
                 a.column,
                 given.join(", ")
             )));
         };
+        // A whole-number key (a seed, a count) has no value between two of its values.
+        if a.values
+            .iter()
+            .all(|v| matches!(v, toml::Value::Integer(_)))
+            && integer_key(plan, &a.key)
+        {
+            return Err(bad(format!(
+                "{} takes whole numbers (a seed or a count), which have no boundary between \
+                 them; expected a key that takes any number (a radius, a pressure, a \
+                 coefficient): sweep it with `wovenform sweep` instead",
+                a.key
+            )));
+        }
         let lo = numbers.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = numbers.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         let count = (numbers.len() - 1) * PER_STEP + 1;
@@ -73,6 +94,16 @@ impl Lattice {
         };
         let sweep_json = serde_json::to_string(&lattice.axes).expect("the axes are plain data");
         lattice.sweep_hash = fnv_hex(&format!("{}\n{sweep_json}", lattice.base_hash));
+        let size = (lattice.axes.iter()).try_fold(1usize, |n, a| n.checked_mul(a.values.len()));
+        if size.is_none_or(|n| n > MAX_DESIGNS) {
+            return Err(bad(format!(
+                "the lattice would hold {} designs ({PER_STEP} per step of the sweep file's \
+                 {} values, times the other axes' combinations); expected at most \
+                 {MAX_DESIGNS}: fewer values along {key}, or fewer combinations",
+                size.map_or_else(|| "too many".to_string(), |n| n.to_string()),
+                numbers.len()
+            )));
+        }
         let designs = lattice.designs();
         let combos = combos_of(&lattice.axes, axis);
         Ok(Lattice {
@@ -132,6 +163,18 @@ impl Lattice {
             })
             .collect()
     }
+}
+
+/// The most designs a lattice holds (a sweep's grid may hold as many).
+pub const MAX_DESIGNS: usize = 1_000_000;
+
+/// Whether the base scene's `key` is a whole number (its TOML value an integer).
+fn integer_key(plan: &Plan, key: &str) -> bool {
+    let table = toml::Table::try_from(&plan.base_scene).unwrap_or_default();
+    matches!(
+        crate::scene::lookup(&table, key),
+        Some(toml::Value::Integer(_))
+    )
 }
 
 /// The value a fraction `t` of the way from `lo` to `hi`, evenly or in the logarithm.

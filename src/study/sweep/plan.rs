@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::SweepError;
 use super::values::{as_number, fnv_hex, show_value};
-use crate::scene::{Override, Scene, lookup, merge_tables, unset_key_shape};
+use crate::scene::{Num, Override, Scene, lookup, merge_tables, unset_key_shape};
 
 /// The box's five short names and the scene keys they stand for, in grid order.
 pub const SHORT_NAMES: [(&str, &str); 5] = [
@@ -150,6 +150,7 @@ impl Plan {
         let scene_table = toml::Table::try_from(&base_scene)
             .map_err(|e| SweepError::Run(format!("cannot tabulate the base scene: {e}")))?;
         let axes = axes_of(doc, &scene_table).map_err(bad)?;
+        check_holder_axes(&axes, &base_scene).map_err(bad)?;
         let base_json = serde_json::to_string(&base_scene).expect("a scene is plain data");
         // The scene names its tool files; what they hold is hashed too.
         let tool_files = tool_files(&base_scene);
@@ -222,9 +223,20 @@ impl BaseText {
                 )));
             }
         };
+        let twice = |key: String| {
+            bad(format!(
+                "\"{key}\" is given twice: as a quoted dotted key and in its table; expected one"
+            ))
+        };
         let inline = match doc.get("scene") {
             None => None,
-            Some(toml::Value::Table(t)) => Some(t),
+            Some(toml::Value::Table(t)) => {
+                // `"process.stroke" = 12.0`, as `[sweep]` spells its keys, is `[process] stroke`.
+                let mut t = t.clone();
+                crate::scene::expand_dotted_keys(&mut t)
+                    .map_err(|k| twice(format!("scene.{k}")))?;
+                Some(t)
+            }
             Some(v) => return Err(bad(format!("scene = {v}: expected a [scene] table"))),
         };
         let read = |b: &Path| {
@@ -244,7 +256,7 @@ impl BaseText {
         let (text, origin) = match (&file, inline) {
             (None, None) => (String::new(), format!("{sweep_file} (the default scene)")),
             (Some(b), None) => (read(b)?, b.display().to_string()),
-            (None, Some(t)) => (to_text(t)?, format!("{sweep_file} [scene]")),
+            (None, Some(t)) => (to_text(&t)?, format!("{sweep_file} [scene]")),
             (Some(b), Some(over)) => {
                 let mut table: toml::Table = read(b)?.parse().map_err(|e: toml::de::Error| {
                     SweepError::BadInput(format!(
@@ -253,7 +265,14 @@ impl BaseText {
                         e.to_string().trim_end()
                     ))
                 })?;
-                merge_tables(&mut table, over);
+                crate::scene::expand_dotted_keys(&mut table).map_err(|k| {
+                    SweepError::BadInput(format!(
+                        "{}: \"{k}\" is given twice: as a quoted dotted key and in its table; \
+                         expected one",
+                        b.display()
+                    ))
+                })?;
+                merge_tables(&mut table, &over);
                 let origin = format!("{} with {sweep_file} [scene]", b.display());
                 (to_text(&table)?, origin)
             }
@@ -345,6 +364,26 @@ fn axis_of(name: &str, value: &toml::Value, scene: &toml::Table) -> Result<Axis,
     })
 }
 
+/// A swept holder pressure must press the holder: with `process.holder_force` (in the base
+/// scene or swept too) a plate takes the force and the pressure changes nothing.
+fn check_holder_axes(axes: &[Axis], base: &Scene) -> Result<(), String> {
+    let swept = |key: &str| axes.iter().find(|a| a.key == key && a.values.len() > 1);
+    let Some(pressure) = swept("process.holder_pressure") else {
+        return Ok(());
+    };
+    let force = match (base.process.holder_force, swept("process.holder_force")) {
+        (_, Some(f)) => format!("sweep.{}", f.column),
+        (Some(kn), None) => format!("the base scene's process.holder_force = {} kN", Num(kn)),
+        (None, None) => return Ok(()),
+    };
+    Err(format!(
+        "sweep.{}: the holder pressure is swept, but {force} presses the holder with a plate \
+         instead, so every pressure would give the same answer; expected the pressure swept \
+         without process.holder_force (remove it), or process.holder_force swept instead",
+        pressure.column
+    ))
+}
+
 pub(super) fn parse_sets(sets: &[String]) -> Result<Vec<Override>, SweepError> {
     sets.iter()
         .map(|s| s.parse::<Override>())
@@ -400,6 +439,14 @@ fn axis_values(
             show_value(v)
         ));
     }
+    // nan and inf are TOML numbers, and no scene key takes them.
+    if let Some(v) = values.iter().find(|v| !finite(v)) {
+        return Err(format!(
+            "sweep.{name} = {}: expected finite {expected} for {key} (nan and inf are no \
+             value of a scene)",
+            show_value(v)
+        ));
+    }
     let same = |a: &toml::Value, b: &toml::Value| match (as_number(a), as_number(b)) {
         (Some(x), Some(y)) => x == y,
         _ => a == b,
@@ -414,6 +461,15 @@ fn axis_values(
         }
     }
     Ok(values)
+}
+
+/// Whether every number in `v` (a number, or the numbers of an array) is finite.
+fn finite(v: &toml::Value) -> bool {
+    match v {
+        toml::Value::Float(f) => f.is_finite(),
+        toml::Value::Array(list) => list.iter().all(finite),
+        _ => true,
+    }
 }
 
 /// The values of a range `{ start, stop, count }` (both ends included, count from 1 to

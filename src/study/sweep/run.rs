@@ -205,7 +205,18 @@ struct Job<'a> {
     field_error: Mutex<Option<String>>,
 }
 
-impl Job<'_> {
+impl<'a> Job<'a> {
+    fn new(plan: &'a Plan, columns: &'a [Column], dir: &'a Path, options: &'a Options) -> Self {
+        Job {
+            plan,
+            columns,
+            dir,
+            stop: options.stop.as_deref(),
+            failed: AtomicBool::new(false),
+            field_error: Mutex::new(None),
+        }
+    }
+
     fn stopped(&self) -> bool {
         self.failed.load(Ordering::Relaxed) || self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
     }
@@ -228,7 +239,7 @@ fn run_design(job: &Job, design: &Design, scene: &Scene) -> Option<Row> {
         return None;
     }
     let summary = RunSummary::new(&design.id, scene, &result, start.elapsed().as_secs_f64());
-    let mut row = Row::from_summary(job.plan, job.columns, design, &summary);
+    let row = Row::from_summary(job.plan, job.columns, design, &summary);
     let field = StoredField::of_run(design, &summary, &result, &problem.tooling);
     // Without its field the row would be run again on a resume: the folder cannot take the
     // sweep's results (a full disk), so the sweep stops and says so.
@@ -278,14 +289,7 @@ pub fn run(
         progress,
         valid.len() + invalid.len(),
     );
-    let job = Job {
-        plan,
-        columns: &columns,
-        dir,
-        stop: options.stop.as_deref(),
-        failed: AtomicBool::new(false),
-        field_error: Mutex::new(None),
-    };
+    let job = Job::new(plan, &columns, dir, options);
     for row in invalid {
         sink.push(row, &job.failed);
     }
@@ -304,14 +308,8 @@ pub fn run(
         .field_error
         .into_inner()
         .unwrap_or_else(|e| e.into_inner());
-    if let Some(e) = state.error.or(field_error) {
-        return Err(SweepError::Run(format!(
-            "{e}; the sweep stopped there: the {} rows written before are kept in {}, and \
-             --resume runs the rest once the folder can be written",
-            kept_count + state.rows.len(),
-            dir.join("results.csv").display()
-        )));
-    }
+    let written = kept_count + state.rows.len();
+    write_failure(state.error.or(field_error), written, dir)?;
     let ran = (state.rows.iter())
         .filter(|r| r.verdict != Verdict::Invalid)
         .count();
@@ -335,6 +333,19 @@ pub fn run(
         stopped,
         lock: Some(lock),
     })
+}
+
+/// The error that stopped the sweep (a row or a field that could not be written), with what
+/// was kept: `written` rows in `dir/results.csv`.
+fn write_failure(error: Option<String>, written: usize, dir: &Path) -> Result<(), SweepError> {
+    match error {
+        None => Ok(()),
+        Some(e) => Err(SweepError::Run(format!(
+            "{e}; the sweep stopped there: the {written} rows written before are kept in {}, \
+             and --resume runs the rest once the folder can be written",
+            dir.join("results.csv").display()
+        ))),
+    }
 }
 
 /// The designs to run with their scenes, and the rows of those that break a bound of the

@@ -95,6 +95,9 @@ pub struct ReadReport {
     /// Rows that disagree with their field file (a figure or the verdict edited by hand):
     /// run again.
     pub edited: usize,
+    /// Rows of a scene with bending written before the wrinkle columns: judged without
+    /// wrinkles, so run again.
+    pub no_wrinkles: usize,
     /// Rows of designs whose values are in the grid under another number (the grid grew or
     /// shrank, or a frontier's lattice holds the grid): kept, their files copied to the new
     /// id (the old ones stay, for what refers to them).
@@ -105,7 +108,7 @@ pub struct ReadReport {
 
 impl ReadReport {
     pub fn dropped(&self) -> usize {
-        self.truncated + self.duplicates + self.no_field + self.edited
+        self.truncated + self.duplicates + self.no_field + self.edited + self.no_wrinkles
     }
 
     pub fn describe(&self) -> String {
@@ -123,6 +126,12 @@ impl ReadReport {
             parts.push(format!(
                 "{} that disagree with their field file (max shear or verdict edited; run again)",
                 self.edited
+            ));
+        }
+        if self.no_wrinkles > 0 {
+            parts.push(format!(
+                "{} of a scene with bending written without the wrinkle columns (run again)",
+                self.no_wrinkles
             ));
         }
         let kept = if self.renumbered > 0 {
@@ -152,23 +161,13 @@ impl ReadReport {
 /// Reads the rows of `dir/results.csv` that belong to the plan's grid (first of each design).
 pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), StoreError> {
     let path = dir.join("results.csv");
-    // A sweep's rows are small (a few hundred bytes a design): 4 GB is millions of designs.
-    let mut text = match crate::files::read_regular(&path, 4_000_000_000) {
-        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Default::default()),
-        Err(e) => return Err(StoreError::io(&path, "read")(e)),
+    let Some((text, truncated)) = read_text(&path)? else {
+        return Ok(Default::default());
     };
-    // A byte-order mark (a spreadsheet saved the file) is not part of the header.
-    if text.starts_with('\u{feff}') {
-        text.drain(..'\u{feff}'.len_utf8());
-    }
-    let mut report = ReadReport::default();
-    // A last line without its newline was being written when the program stopped.
-    if !text.is_empty() && !text.ends_with('\n') {
-        let cut = text.rfind('\n').map_or(0, |i| i + 1);
-        text.truncate(cut);
-        report.truncated = 1;
-    }
+    let mut report = ReadReport {
+        truncated,
+        ..Default::default()
+    };
     let mut reader = csv::ReaderBuilder::new()
         .flexible(true)
         .from_reader(text.as_bytes());
@@ -217,6 +216,10 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
             report.duplicates += 1;
             continue;
         }
+        if !header.contains_key("max_wrinkle_mm") && judged_with_wrinkles(plan, &row, &grid) {
+            report.no_wrinkles += 1;
+            continue;
+        }
         match agrees_with_field(dir, &row) {
             Some(true) => rows.push(row),
             Some(false) => report.edited += 1,
@@ -224,18 +227,63 @@ pub fn read_rows(dir: &Path, plan: &Plan) -> Result<(Vec<Row>, ReadReport), Stor
         }
     }
     report.kept = rows.len();
-    if report.foreign > 0 && !same_layout(&header_fields, &expected) {
-        return Err(StoreError::Header {
-            path,
-            problem: format!(
-                "{} rows of another grid, whose columns are not this sweep's (they would be \
-                 lost under its header)",
-                report.foreign
-            ),
-            expected: expected.join(","),
-        });
-    }
+    keepable(path, &report, &header_fields, &expected)?;
     Ok((rows, report))
+}
+
+/// Refuses a file whose rows of another grid could not be written back under the sweep's
+/// header (its columns differ): they would be lost.
+fn keepable(
+    path: PathBuf,
+    report: &ReadReport,
+    found: &csv::StringRecord,
+    expected: &[String],
+) -> Result<(), StoreError> {
+    if report.foreign == 0 || same_layout(found, expected) {
+        return Ok(());
+    }
+    Err(StoreError::Header {
+        path,
+        problem: format!(
+            "{} rows of another grid, whose columns are not this sweep's (they would be lost \
+             under its header)",
+            report.foreign
+        ),
+        expected: expected.join(","),
+    })
+}
+
+/// Whether the row's design has bending, so its verdict needs the wrinkle figure (a row
+/// solved before the wrinkle columns were written lacks it).
+fn judged_with_wrinkles(plan: &Plan, row: &Row, grid: &HashMap<&str, &Design>) -> bool {
+    row.verdict != Verdict::Invalid
+        && grid
+            .get(row.design.as_str())
+            .and_then(|d| plan.design_scene(d).ok())
+            .is_some_and(|scene| scene.bending().is_some())
+}
+
+/// The text of `results.csv` without a byte-order mark and without a last line cut short
+/// (1 when there was one); `None` when there is no such file.
+fn read_text(path: &Path) -> Result<Option<(String, usize)>, StoreError> {
+    // A sweep's rows are small (a few hundred bytes a design): 4 GB is millions of designs.
+    let mut text = match crate::files::read_regular(path, 4_000_000_000) {
+        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(StoreError::io(path, "read")(e)),
+    };
+    // A byte-order mark (a spreadsheet saved the file) is not part of the header.
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
+    // A last line without its newline was being written when the program stopped.
+    let mut truncated = 0;
+    if !text.is_empty() && !text.ends_with('\n') {
+        let cut = text.rfind('\n').map_or(0, |i| i + 1);
+        text.truncate(cut);
+        truncated = 1;
+    }
+    Ok(Some((text, truncated)))
 }
 
 /// Whether rows under `found` can be written under `expected`: the same columns, or the same

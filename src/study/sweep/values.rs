@@ -50,10 +50,15 @@ pub fn unit_of(key: &str) -> &'static str {
         k if k.starts_with("tools.") => " mm",
         "process.stroke" | "mesh.element_size" | "blank.size" => " mm",
         "process.holder_pressure" => " MPa",
+        "process.holder_force" => " kN",
         "fabric.locking_angle_deg" | "fabric.yarn_angle_deg" => "°",
-        "fabric.break_tension_n" | "fabric.c" => " N",
-        "fabric.l0" | "fabric.e0" | "fabric.a" => " mm",
+        "fabric.break_tension_n" | "fabric.c" | "fabric.compressive_stiffness" => " N",
+        "fabric.l0" | "fabric.e0" | "fabric.a" | "fabric.wrinkle_limit_mm" => " mm",
         "fabric.b" => " 1/N",
+        "fabric.bending_rigidity" => " N·mm",
+        "fabric.shear_moment" => " N·mm/mm²",
+        "fabric.areal_mass" => " g/m²",
+        "numerics.trigger_pa" => " Pa",
         _ => "",
     }
 }
