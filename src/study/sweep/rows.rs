@@ -142,7 +142,10 @@ pub fn csv_header(columns: &[Column]) -> String {
 impl Row {
     /// The row as a CSV line (with its newline).
     pub fn to_csv(&self) -> String {
-        let opt = |v: Option<f64>, d: usize| v.map(|v| format!("{v:.d$}")).unwrap_or_default();
+        let opt = |v: Option<f64>, d: usize| {
+            v.map(|v| crate::show::Fixed(v, d).to_string())
+                .unwrap_or_default()
+        };
         let mut fields: Vec<String> = self.params.iter().map(|(_, v)| show_value(v)).collect();
         fields.extend([
             opt(self.max_shear_deg, 4),

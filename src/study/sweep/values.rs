@@ -14,7 +14,8 @@ pub fn fnv_hex(text: &str) -> String {
 /// A value as written in tables and ids: `5`, `7.5`, `true`, `full`, `[5, 4]`.
 pub fn show_value(v: &toml::Value) -> String {
     match v {
-        toml::Value::Float(f) => format!("{f}"),
+        // As every number a person reads: `1e-300`, not 300 zeros (and read back the same).
+        toml::Value::Float(f) => crate::show::Num(*f).to_string(),
         toml::Value::Integer(i) => format!("{i}"),
         toml::Value::Boolean(b) => format!("{b}"),
         toml::Value::String(s) => s.clone(),
@@ -30,7 +31,8 @@ pub fn show_value(v: &toml::Value) -> String {
 pub(super) fn toml_literal(v: &toml::Value) -> String {
     match v {
         toml::Value::Float(f) if f.fract() == 0.0 && f.abs() < 1e15 => format!("{f:.1}"),
-        toml::Value::Float(f) => format!("{f}"),
+        // As every number a person reads: `1e-300`, not 300 zeros (and read back the same).
+        toml::Value::Float(f) => crate::show::Num(*f).to_string(),
         other => other.to_string(),
     }
 }
