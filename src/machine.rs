@@ -101,7 +101,7 @@ pub fn check_fits_among(problem: &DrawingProblem, budget: f64, runs: usize) -> R
 }
 
 /// Runs `work` (a single drawing, whose elements are evaluated in parallel) on a worker of
-/// rayon's pool, as `core::linear` runs faer's factorization. Asked for from outside the pool,
+/// rayon's pool, as `core::sparse::linear` runs faer's factorization. Asked for from outside the pool,
 /// each parallel loop is handed to the pool and waited for, every assembly again; from inside,
 /// the asking thread starts on it at once. On a 2-core machine (2026-12-06) the open box at fine
 /// took 0.89–0.91× the time of one thread with the parallel assembly asked for from outside the

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use crate::core::drawing::{DrawingResult, Tooling};
-use crate::core::law::CellParams;
+use crate::core::fabric::law::CellParams;
 use crate::core::solver::SolveStats;
 use crate::files::write_atomic;
 use crate::report::converge;
@@ -249,8 +249,8 @@ pub fn write_fit(
 /// `shear.png` into `dir` (created); returns their paths.
 pub fn write_bias(
     dir: &Path,
-    problem: &crate::core::bias::BiasProblem,
-    result: &crate::core::bias::BiasResult,
+    problem: &crate::core::specimens::bias::BiasProblem,
+    result: &crate::core::specimens::bias::BiasResult,
     locking_angle_deg: f64,
     measured: Option<&[(f64, f64)]>,
 ) -> Result<Vec<PathBuf>, PublishError> {

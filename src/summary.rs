@@ -63,7 +63,7 @@ pub struct RunSummary {
     pub max_shear_err_deg: Option<f64>,
     pub punch_force_err_pct: Option<f64>,
     pub max_tension_err_pct: Option<f64>,
-    /// The largest wrinkle amplitude, mm (`core::wrinkle`: out-of-plane waviness along the
+    /// The largest wrinkle amplitude, mm (`core::wrinkles::amplitude`: out-of-plane waviness along the
     /// yarns that the tools do not explain), where it is, and how far it can be off (mm); all
     /// `null` for the paper's membrane, which has no bending and so no wrinkles.
     pub max_wrinkle_mm: Option<f64>,

@@ -9,7 +9,7 @@ use serde::Serialize;
 use super::progress::stderr_bar;
 use super::scene_args::{OutArgs, SceneFileArgs};
 use super::{CliError, outputs};
-use wovenform::core::bias::{BiasProblem, BiasResult, kinematic_limit};
+use wovenform::core::specimens::bias::{BiasProblem, BiasResult, kinematic_limit};
 use wovenform::report::bias::{Departure, departure};
 use wovenform::scene::specimen;
 

@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::scene_args::{OutArgs, SceneFileArgs};
 use super::{CliError, outputs};
-use wovenform::core::cantilever::{CantileverProblem, CantileverResult};
+use wovenform::core::specimens::cantilever::{CantileverProblem, CantileverResult};
 use wovenform::scene::{Override, specimen};
 use wovenform::show::{Fixed, Num};
 

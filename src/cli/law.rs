@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::scene_args::SceneArgs;
 use super::{CliError, outputs};
-use wovenform::core::law::CellLaw;
+use wovenform::core::fabric::law::CellLaw;
 use wovenform::publish::write_figure6;
 use wovenform::study::fit::STRAIN_RANGE;
 

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::CliError;
-use wovenform::core::law::{CellLaw, CellParams};
+use wovenform::core::fabric::law::{CellLaw, CellParams};
 use wovenform::tui;
 
 #[derive(Args, Debug)]

@@ -2,8 +2,8 @@
 //! kinematics' curve of the same shear law, its centre's shear against the ideal, and the
 //! specimen's shear map.
 
-use crate::core::bias::{BiasProblem, BiasResult, ideal_force, ideal_shear};
-use crate::core::shear::ShearLaw;
+use crate::core::fabric::shear::ShearLaw;
+use crate::core::specimens::bias::{BiasProblem, BiasResult, ideal_force, ideal_shear};
 
 use super::maps::{FieldMap, Unit};
 use super::plot::{Colour, LineChart, Series};

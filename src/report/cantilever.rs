@@ -2,7 +2,7 @@
 //! elastica of the same rigidity, weight and overhang, and the small-deflection beam.
 
 use super::plot::{Colour, LegendAt, LineChart, Series};
-use crate::core::cantilever::{CantileverProblem, CantileverResult, heavy_elastica};
+use crate::core::specimens::cantilever::{CantileverProblem, CantileverResult, heavy_elastica};
 
 /// The strip's centre line (the mean over its width of each column of nodes, from the clamp's
 /// edge) as `(x, z)` in mm, against the elastica and the beam, whose fall is

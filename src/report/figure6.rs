@@ -1,7 +1,7 @@
 //! The paper's Figure 6: warp and weft tension against warp strain for biaxial strain paths
 //! of ratio `k = ε11/ε22` = 1, 2, 4 and the uniaxial path (ε22 = 0).
 
-use crate::core::law::{CellLaw, CellParams};
+use crate::core::fabric::law::{CellLaw, CellParams};
 use crate::report::plot::{Colour, LineChart, Series};
 
 /// The largest warp strain drawn (the paper's figure reaches about 1 %).

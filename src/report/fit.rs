@@ -1,6 +1,6 @@
 //! The fit's chart: measured tensions against the fitted law.
 
-use crate::core::law::CellLaw;
+use crate::core::fabric::law::CellLaw;
 use crate::report::plot::{Colour, LineChart, Series, Style, tick_label};
 use crate::study::fit::{FitResult, Sample};
 

@@ -58,7 +58,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::core::drawing::{DrawingProblem, Symmetry};
-use crate::core::law::CellParams;
+use crate::core::fabric::law::CellParams;
 
 pub use keys::{differences, lookup, unset_key_shape};
 pub use mesh_tools::forget_mesh_tools;
@@ -174,7 +174,7 @@ impl Scene {
         let mut p = default_problem();
         p.fabric = self.to_cell_params();
         p.shear = self.fabric.shear_moment.map(|k| {
-            let law = crate::core::shear::ShearLaw::new(k);
+            let law = crate::core::fabric::shear::ShearLaw::new(k);
             if self.fabric.shear_locking {
                 law.with_locking(self.fabric.locking_angle_deg)
             } else {
@@ -213,7 +213,7 @@ impl Scene {
                     .map_or([crate::core::drawing::DEFAULT_COMPRESSION; 2], |cc| {
                         [cc[0] / c[0], cc[1] / c[1]]
                     }),
-                trigger: crate::core::trigger::Trigger {
+                trigger: crate::core::wrinkles::trigger::Trigger {
                     pressure_mpa: self.numerics.trigger_pa * 1e-6,
                     seed: self.numerics.trigger_seed,
                 },

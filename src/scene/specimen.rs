@@ -2,8 +2,8 @@
 //! its sizes, its mesh and its options checked against physical and machine bounds before any
 //! allocation, as the scene's own keys are in `validate.rs`. Errors name the option.
 
-use crate::core::bias::BiasProblem;
-use crate::core::cantilever::CantileverProblem;
+use crate::core::specimens::bias::BiasProblem;
+use crate::core::specimens::cantilever::CantileverProblem;
 
 use super::{Scene, SceneError};
 
@@ -110,7 +110,7 @@ pub fn bias_problem(
         element_size,
         points,
         solver: p.solver,
-        toe_strain: crate::core::bias::BIAS_TOE_STRAIN,
+        toe_strain: crate::core::specimens::bias::BIAS_TOE_STRAIN,
     };
     problem.check().map_err(|e| {
         bad(

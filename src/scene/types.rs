@@ -8,7 +8,7 @@ pub use crate::show::Num;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::core::drawing::{DrawingProblem, Tooling};
-use crate::core::law::CellParams;
+use crate::core::fabric::law::CellParams;
 
 /// A number for each yarn, `[warp, weft]`. In TOML either a 2-array or one number for both.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -116,7 +116,7 @@ pub struct Fabric {
     /// Yarn breaking tension, N. An assumption: the paper gives no value for its glass fabric;
     /// 1500 N is a round figure for a glass roving of that stiffness.
     pub break_tension_n: f64,
-    /// The largest wrinkle amplitude a part may have, mm (`core::wrinkle`): judged where the
+    /// The largest wrinkle amplitude a part may have, mm (`core::wrinkles::amplitude`): judged where the
     /// fabric has bending, the paper's membrane having no wrinkles to judge.
     pub wrinkle_limit_mm: f64,
     /// Initial angle between warp and weft, degrees.
@@ -126,11 +126,11 @@ pub struct Fabric {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shear_moment: Option<[f64; 3]>,
     /// Locking as a stiffening: past the locking angle the shear moment rises steeply
-    /// (`core::shear::Locking`). Needs `shear_moment`.
+    /// (`core::fabric::shear::Locking`). Needs `shear_moment`.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub shear_locking: bool,
     /// Bending rigidity per unit width `[B1, B2]`, N·mm (warp, weft): beyond the paper, absent
-    /// by default (the paper's membrane). Hinges along the yarn lines (`core::bending`).
+    /// by default (the paper's membrane). Hinges along the yarn lines (`core::fabric::bending`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bending_rigidity: Option<[f64; 2]>,
     /// The yarns' stiffness in compression `[Cc1, Cc2]`, N per yarn (as `c` in tension): with
@@ -470,7 +470,7 @@ pub struct Numerics {
     /// Contact penalty, as a multiple of the cells' tensile stiffness.
     pub penalty_factor: f64,
     /// With bending: the root-mean-square of the seeded out-of-plane pressure that lets a flat
-    /// blank buckle (`core::trigger`), Pa.
+    /// blank buckle (`core::wrinkles::trigger`), Pa.
     pub trigger_pa: f64,
     /// With bending: the seed of the trigger's pattern.
     pub trigger_seed: u64,
@@ -482,7 +482,7 @@ impl Default for Numerics {
         Numerics {
             stabilisation: p.solver.stabilisation,
             penalty_factor: p.penalty_factor,
-            trigger_pa: crate::core::trigger::DEFAULT_TRIGGER_MPA * 1e6,
+            trigger_pa: crate::core::wrinkles::trigger::DEFAULT_TRIGGER_MPA * 1e6,
             trigger_seed: 1,
         }
     }

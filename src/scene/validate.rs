@@ -138,7 +138,7 @@ impl Scene {
             broken("fabric.wrinkle_limit_mm", Num(f.wrinkle_limit_mm), what)
         })?;
         if let Some(k) = f.shear_moment {
-            ok_if(crate::core::shear::ShearLaw::new(k).rises(), || {
+            ok_if(crate::core::fabric::shear::ShearLaw::new(k).rises(), || {
                 broken(
                     "fabric.shear_moment",
                     format!("[{}, {}, {}]", Num(k[0]), Num(k[1]), Num(k[2])),

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use super::timing::{median, preset};
 use crate::accuracy::Accuracy;
-use crate::core::element::{self, ElementGeometry, ElementOutput, GAUSS};
-use crate::core::law::{CellLaw, CellParams};
+use crate::core::fabric::law::{CellLaw, CellParams};
+use crate::core::membrane::element::{self, ElementGeometry, ElementOutput, GAUSS};
 use crate::presets::{PAPER_BOX_OPEN, PAPER_BOX_TIGHT};
 use crate::study::sweep::embedded::explorer_sweep;
 

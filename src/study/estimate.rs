@@ -13,7 +13,7 @@ use std::hint::black_box;
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use crate::core::law::{CellLaw, CellParams};
+use crate::core::fabric::law::{CellLaw, CellParams};
 use crate::scene::Scene;
 
 /// Seconds of a standard run of the mean design (1,156 solved elements, 28 mm stroke) on the

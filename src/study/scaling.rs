@@ -178,7 +178,7 @@ pub fn bias_pair(deadline_s: f64, repetitions: usize) -> Result<[Timed; 2], Stri
         Ok::<_, String>(p)
     };
     let [short, long] = [problem(BIAS_SPECIMENS[0])?, problem(BIAS_SPECIMENS[1])?];
-    let run = |problem: &crate::core::bias::BiasProblem| {
+    let run = |problem: &crate::core::specimens::bias::BiasProblem| {
         let start = Instant::now();
         let r = problem
             .solve_until(&mut |_| until(start, deadline_s))

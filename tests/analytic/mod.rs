@@ -6,7 +6,7 @@
 //! Units as in the code: mm, N, MPa (= N/mm²), radians unless a name says degrees.
 #![allow(dead_code)]
 
-use wovenform::core::law::CellParams;
+use wovenform::core::fabric::law::CellParams;
 
 // ---------------------------------------------------------------------------------------
 // Friction and the blank holder

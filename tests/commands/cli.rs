@@ -5,7 +5,7 @@ use crate::analytic;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use wovenform::core::law::{CellLaw, CellParams};
+use wovenform::core::fabric::law::{CellLaw, CellParams};
 
 /// Runs the binary in a scratch folder of this test process, so that a command's default
 /// output folder (`out/...`) lands there, not in the repository.

@@ -4,7 +4,7 @@
 
 use wovenform::core::contact::{Contact, ContactOptions, Holder, ToolMotion};
 use wovenform::core::drawing::node_shares;
-use wovenform::core::law::{CellLaw, CellParams};
+use wovenform::core::fabric::law::{CellLaw, CellParams};
 use wovenform::core::solver::Model;
 
 /// The paper's glass fabric with the linear yarn law (undulation off).

@@ -1,11 +1,11 @@
-//! Bending stiffness (`core::bending`, beyond the paper) against the heavy cantilever's closed
+//! Bending stiffness (`core::fabric::bending`, beyond the paper) against the heavy cantilever's closed
 //! forms (`wovenform::guide::bending`): small deflection `w L⁴/(8B)`, the heavy elastica
 //! integrated here by shooting, and Peirce's 41.5° chord at an overhang of twice the bending
 //! length `c = (B/w)^{1/3}`.
 
-use wovenform::core::cantilever::{CantileverError, CantileverProblem, GRAVITY};
-use wovenform::core::law::CellParams;
+use wovenform::core::fabric::law::CellParams;
 use wovenform::core::solver::SolverOptions;
+use wovenform::core::specimens::cantilever::{CantileverError, CantileverProblem, GRAVITY};
 
 /// A glass fabric's strip: B = 0.08 N·mm per mm of width, 300 g/m² (c = 30.07 mm).
 fn strip(length: f64, element_size: f64) -> CantileverProblem {
@@ -140,10 +140,10 @@ fn the_woven_law_and_bad_sizes_are_refused_before_any_work() {
 
 /// The Euler strip of this file's fabric: 100 × 10 mm, 2 mm elements, shortened by 1 mm in
 /// ten points, with yarns `fraction` of C in compression and a trigger of `sag` mm.
-fn euler(fraction: f64, sag: f64) -> wovenform::core::euler_strip::EulerStripResult {
+fn euler(fraction: f64, sag: f64) -> wovenform::core::specimens::euler_strip::EulerStripResult {
     let mut fabric = CellParams::PAPER_GLASS;
     fabric.undulation = false;
-    wovenform::core::euler_strip::EulerStripProblem {
+    wovenform::core::specimens::euler_strip::EulerStripProblem {
         fabric,
         bending_rigidity: [0.08, 0.08],
         compression: [fraction, fraction],
@@ -202,7 +202,7 @@ fn stiffer_compression_buckles_sooner_to_the_same_plateau() {
     assert!((r.amplitude_mm[last] / closed - 1.0).abs() < 0.1);
 }
 
-/// The wrinkle figure (`core::wrinkle`) measures the buckled strip's height from the clamps'
+/// The wrinkle figure (`core::wrinkles::amplitude`) measures the buckled strip's height from the clamps'
 /// chord: the closed form's amplitude past buckling, within 10 %, and nothing while flat.
 #[test]
 fn the_wrinkle_figure_of_the_euler_strip_is_its_amplitude() {

@@ -7,10 +7,10 @@ use std::f64::consts::{FRAC_PI_2, SQRT_2};
 use std::path::Path;
 use std::process::Command;
 
-use wovenform::core::bias::BiasProblem;
-use wovenform::core::law::CellParams;
-use wovenform::core::shear::ShearLaw;
+use wovenform::core::fabric::law::CellParams;
+use wovenform::core::fabric::shear::ShearLaw;
 use wovenform::core::solver::SolverOptions;
+use wovenform::core::specimens::bias::BiasProblem;
 
 /// The closed form: the centre's shear (rad) of an `h × w` specimen at grip displacement `d`.
 fn ideal_shear(h: f64, w: f64, d: f64) -> f64 {
@@ -39,7 +39,7 @@ fn problem(c: f64, undulation: bool, k: [f64; 3]) -> BiasProblem {
         element_size: 5.0,
         points: 10,
         solver: SolverOptions::default(),
-        toe_strain: wovenform::core::bias::BIAS_TOE_STRAIN,
+        toe_strain: wovenform::core::specimens::bias::BIAS_TOE_STRAIN,
     }
 }
 

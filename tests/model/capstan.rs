@@ -19,7 +19,7 @@ use std::ops::ControlFlow;
 
 use contact_common::{contact_for, linear_fabric};
 use wovenform::core::contact::{Contact, ToolMotion};
-use wovenform::core::mesh::Mesh;
+use wovenform::core::membrane::mesh::Mesh;
 use wovenform::core::solver::{
     LinearPrescribed, Model, NodalSums, NodalTerms, NodeBlock, SolveStats, Solver, SolverOptions,
 };

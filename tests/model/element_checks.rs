@@ -5,8 +5,8 @@
 use crate::analytic;
 use crate::common;
 use common::Lcg;
-use wovenform::core::element::{self, ElementGeometry, ElementOutput, GAUSS};
-use wovenform::core::law::{CellLaw, CellParams};
+use wovenform::core::fabric::law::{CellLaw, CellParams};
+use wovenform::core::membrane::element::{self, ElementGeometry, ElementOutput, GAUSS};
 
 /// A distorted element (about 5 mm, corners jittered by up to 1 mm) and yarns at `angle`.
 fn distorted(g: &mut Lcg, angle: f64) -> ([[f64; 3]; 4], [[f64; 3]; 2]) {

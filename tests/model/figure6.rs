@@ -8,7 +8,7 @@
 
 use crate::analytic;
 
-use wovenform::core::law::{CellLaw, CellParams};
+use wovenform::core::fabric::law::{CellLaw, CellParams};
 use wovenform::report::figure6::{EPS_MAX, Figure6Row, StrainPath, figure6_table};
 
 /// 13 points per curve: ε11 = 0, 0.1 %, …, 1.2 %.

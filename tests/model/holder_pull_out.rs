@@ -17,7 +17,7 @@ use std::ops::ControlFlow;
 
 use contact_common::{contact_for, linear_fabric};
 use wovenform::core::contact::{Holder, ToolMotion};
-use wovenform::core::mesh::Mesh;
+use wovenform::core::membrane::mesh::Mesh;
 use wovenform::core::solver::{LinearPrescribed, Model, Solver, SolverOptions};
 use wovenform::core::tools::Tool;
 

@@ -7,7 +7,7 @@
 use crate::analytic;
 use crate::common;
 use common::Lcg;
-use wovenform::core::law::{CellLaw, CellParams, CrimpState};
+use wovenform::core::fabric::law::{CellLaw, CellParams, CrimpState};
 
 fn paper() -> CellLaw {
     CellLaw::new(CellParams::PAPER_GLASS)

@@ -5,10 +5,10 @@
 
 use crate::common;
 use common::Lcg;
-use wovenform::core::element::{self, ElementGeometry, ElementOutput, GAUSS};
-use wovenform::core::law::{CellLaw, CellParams};
-use wovenform::core::mesh::Mesh;
-use wovenform::core::shear::ShearLaw;
+use wovenform::core::fabric::law::{CellLaw, CellParams};
+use wovenform::core::fabric::shear::ShearLaw;
+use wovenform::core::membrane::element::{self, ElementGeometry, ElementOutput, GAUSS};
+use wovenform::core::membrane::mesh::Mesh;
 use wovenform::core::solver::Model;
 
 const LAW: ShearLaw = ShearLaw::new([0.09, -0.04, 0.25]);

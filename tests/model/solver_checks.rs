@@ -13,9 +13,9 @@ use crate::analytic;
 use crate::common;
 use common::Lcg;
 use std::ops::ControlFlow;
-use wovenform::core::element::GAUSS;
-use wovenform::core::law::{CellLaw, CellParams};
-use wovenform::core::mesh::Mesh;
+use wovenform::core::fabric::law::{CellLaw, CellParams};
+use wovenform::core::membrane::element::GAUSS;
+use wovenform::core::membrane::mesh::Mesh;
 use wovenform::core::solver::{
     LinearPrescribed, Model, NoNodalTerms, Prescribed, Solver, SolverOptions,
 };

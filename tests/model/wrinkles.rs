@@ -1,12 +1,12 @@
 //! Wrinkles (beyond the paper): where a bias strip with a shear law stops trellising and
-//! buckles (`core::bias_wrinkle`) against the estimate of `wovenform::guide::bending`, and the
+//! buckles (`core::specimens::bias_wrinkle`) against the estimate of `wovenform::guide::bending`, and the
 //! wrinkle verdict of a drawing that does not hang on its trigger.
 
-use wovenform::core::bias_wrinkle::{BiasWrinkleProblem, BiasWrinkleResult};
-use wovenform::core::law::CellParams;
-use wovenform::core::shear::ShearLaw;
+use wovenform::core::fabric::law::CellParams;
+use wovenform::core::fabric::shear::ShearLaw;
 use wovenform::core::solver::SolverOptions;
-use wovenform::core::trigger::Trigger;
+use wovenform::core::specimens::bias_wrinkle::{BiasWrinkleProblem, BiasWrinkleResult};
+use wovenform::core::wrinkles::trigger::Trigger;
 
 /// A 60 × 30 mm bias strip of the glass fabric's fitted shear law with locking at 60°,
 /// B = 1 N·mm, compressive yarns of 1 % of C, 2.5 mm elements, shortened by 3 mm in 30 points.

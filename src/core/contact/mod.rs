@@ -106,7 +106,7 @@ pub struct Contact {
     /// The holder's plate at the positions last asked ([`Holder::plate_force_n`]).
     plate: std::sync::Mutex<Option<Plate>>,
     /// A dead load along z on each node, N, held at every load factor (the trigger of a
-    /// buckling problem, [`crate::core::trigger`]); empty: none.
+    /// buckling problem, [`crate::core::wrinkles::trigger`]); empty: none.
     pub trigger: Vec<f64>,
     /// Load factor and the force of the first tool (the punch) on the fabric (z component, N)
     /// at the end of every accepted step.

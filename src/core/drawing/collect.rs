@@ -2,9 +2,9 @@
 
 use super::{DrawingFailure, DrawingProblem, DrawingResult, LeftOut};
 use crate::core::contact::Contact;
-use crate::core::mesh::Mesh;
+use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::{Model, SolveStats};
-use crate::core::wrinkle::wrinkles;
+use crate::core::wrinkles::amplitude::wrinkles;
 
 /// The fields and figures of the model's final state.
 pub(super) fn collect(

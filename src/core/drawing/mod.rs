@@ -10,6 +10,7 @@ mod peak;
 mod result;
 mod size;
 
+pub use crate::core::tools::tooling::Tooling;
 pub use failure::{DrawingFailure, Unrestrained};
 pub use result::{DrawingResult, PENETRATION_LIMIT, UNBALANCED_WORK_LIMIT, Unsound};
 pub use size::SizeEstimate;
@@ -17,15 +18,12 @@ pub use size::SizeEstimate;
 use std::ops::ControlFlow;
 
 use super::contact::{Contact, ContactOptions, Holder, ToolMotion};
-use super::law::{CellLaw, CellParams};
-use super::mesh::Mesh;
 use super::solver::{LinearPrescribed, Model, SolveStats, Solver, SolverOptions};
-use super::tools::Tool;
-use super::tools::mesh_tool::MeshTool;
-use super::trigger::Trigger;
-use std::sync::Arc;
+use crate::core::fabric::law::{CellLaw, CellParams};
+use crate::core::membrane::mesh::Mesh;
+use crate::core::wrinkles::trigger::Trigger;
 
-/// The toe of the drawings' yarn law ([`crate::core::toe`]): the slack/taut kink rounded over a
+/// The toe of the drawings' yarn law ([`crate::core::fabric::toe`]): the slack/taut kink rounded over a
 /// yarn strain of 10⁻³, the narrowest that let fine meshes of the paper's grid converge in
 /// about as many load steps as standard ones (3·10⁻⁴ took up to 1.7× more steps; the kink itself
 /// up to 25×, or failed), and that moved no figure of the presets by a tenth of its band.
@@ -46,103 +44,6 @@ pub const TOL_WORK: f64 = 1e-3;
 /// (`guide::cost_newton`, "Session eleven").
 pub const TOL_DECREMENT: f64 = 1e-3;
 
-/// The punch and die pair.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Tooling {
-    /// A square (rectangular) box: punch sides `side` (mm), plan corner radius `r`, nose radius
-    /// `rp`; die entry radius `rm`; die opening `side + 2·clearance`.
-    Box {
-        side: [f64; 2],
-        r: f64,
-        rp: f64,
-        rm: f64,
-        clearance: f64,
-    },
-    /// An ellipsoidal punch of semi-axes `[ax, ay, az]`; the die opening is its plan ellipse
-    /// offset by the clearance.
-    Ellipsoid {
-        axes: [f64; 3],
-        rm: f64,
-        clearance: f64,
-    },
-    /// A hemispherical punch of radius `radius`.
-    Hemisphere {
-        radius: f64,
-        rm: f64,
-        clearance: f64,
-    },
-    /// A punch and a die from triangle surfaces (STL), placed by the user.
-    Mesh {
-        punch: Arc<MeshTool>,
-        die: Arc<MeshTool>,
-    },
-}
-
-impl Tooling {
-    /// The punch (tip at z = 0) and the die.
-    pub fn tools(&self) -> (Tool, Tool) {
-        match *self {
-            Tooling::Box {
-                side,
-                r,
-                rp,
-                rm,
-                clearance,
-            } => (
-                Tool::box_punch(side, r, rp, 0.0),
-                Tool::box_die(side, r, clearance, rm),
-            ),
-            Tooling::Ellipsoid {
-                axes,
-                rm,
-                clearance,
-            } => (
-                Tool::EllipsoidPunch { axes, tip: 0.0 },
-                Tool::elliptic_die([axes[0], axes[1]], clearance, rm),
-            ),
-            Tooling::Hemisphere {
-                radius,
-                rm,
-                clearance,
-            } => (
-                Tool::EllipsoidPunch {
-                    axes: [radius; 3],
-                    tip: 0.0,
-                },
-                Tool::elliptic_die([radius, radius], clearance, rm),
-            ),
-            Tooling::Mesh { ref punch, ref die } => (
-                Tool::Mesh {
-                    shape: punch.clone(),
-                    tip: 0.0,
-                },
-                Tool::Mesh {
-                    shape: die.clone(),
-                    tip: 0.0,
-                },
-            ),
-        }
-    }
-
-    /// Half extents of the die opening in plan, mm.
-    pub fn opening_half(&self) -> [f64; 2] {
-        match *self {
-            Tooling::Box {
-                side, clearance, ..
-            } => [0.5 * side[0] + clearance, 0.5 * side[1] + clearance],
-            Tooling::Ellipsoid {
-                axes, clearance, ..
-            } => [axes[0] + clearance, axes[1] + clearance],
-            Tooling::Hemisphere {
-                radius, clearance, ..
-            } => [radius + clearance; 2],
-            Tooling::Mesh { ref die, .. } => {
-                die.flange.as_ref().map_or([0.0; 2], |f| f.opening_half())
-            }
-        }
-    }
-}
-
 /// How much of the blank is meshed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Symmetry {
@@ -157,7 +58,7 @@ pub enum Symmetry {
 pub struct DrawingProblem {
     pub fabric: CellParams,
     /// The fabric's in-plane shear law (beyond the paper); `None`: the paper's fabric.
-    pub shear: Option<crate::core::shear::ShearLaw>,
+    pub shear: Option<crate::core::fabric::shear::ShearLaw>,
     /// Initial angle between warp and weft, degrees (the warp along x).
     pub yarn_angle_deg: f64,
     pub tooling: Tooling,
@@ -182,13 +83,13 @@ pub struct DrawingProblem {
     pub slip_regularisation: f64,
     /// Gap over which the contact force fades in, as a fraction of the element size.
     pub contact_smoothing: f64,
-    /// The yarn strain over which the law's slack/taut kink is rounded ([`crate::core::toe`];
+    /// The yarn strain over which the law's slack/taut kink is rounded ([`crate::core::fabric::toe`];
     /// 0: the paper's kink).
     pub toe_strain: f64,
     /// Lag friction's normal force and direction (measured against; see `ContactOptions`).
     pub lagged_friction: bool,
     /// The fabric's bending (beyond the paper): hinges along the yarn lines
-    /// ([`crate::core::bending`]); `None`: the paper's membrane.
+    /// ([`crate::core::fabric::bending`]); `None`: the paper's membrane.
     pub bending: Option<Bending>,
 }
 
@@ -199,7 +100,7 @@ pub struct Bending {
     pub rigidity: [f64; 2],
     /// The yarns' stiffness in compression, as fractions of `C`.
     pub compression: [f64; 2],
-    /// What makes the blank leave its plane where it may ([`crate::core::trigger`]).
+    /// What makes the blank leave its plane where it may ([`crate::core::wrinkles::trigger`]).
     pub trigger: Trigger,
 }
 
@@ -497,7 +398,7 @@ impl DrawingProblem {
         let mut hinges = Vec::new();
         if let Some(b) = self.bending {
             law = law.with_compression(b.compression);
-            hinges = crate::core::bending::yarn_hinges(&mesh, b.rigidity)
+            hinges = crate::core::membrane::hinges::yarn_hinges(&mesh, b.rigidity)
                 .ok_or(DrawingFailure::BendingOffYarnLines)?;
         }
         let model = Model::with_hinges(mesh, law, &prescribed.dofs, hinges)

@@ -89,7 +89,7 @@ fn initial_area(x: &[[f64; 3]; 4]) -> f64 {
 #[cfg(test)]
 mod tests {
     use crate::core::drawing::result::DrawingResult;
-    use crate::core::mesh::Mesh;
+    use crate::core::membrane::mesh::Mesh;
 
     fn result(mesh: Mesh, quarter: bool) -> DrawingResult {
         DrawingResult {

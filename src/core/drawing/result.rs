@@ -2,7 +2,7 @@
 
 use super::LeftOut;
 use super::failure::DrawingFailure;
-use crate::core::mesh::Mesh;
+use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::SolveStats;
 
 /// The largest penetration of a node into a tool a sound result may have, as a fraction of the
@@ -84,7 +84,7 @@ pub struct DrawingResult {
     pub tension_max_n: Vec<f64>,
     /// Contact status of each node: 0 free, 1 punch, 2 die, 3 die and holder.
     pub contact: Vec<u8>,
-    /// The wrinkle amplitude through each node, mm ([`crate::core::wrinkle`]), when the fabric
+    /// The wrinkle amplitude through each node, mm ([`crate::core::wrinkles::amplitude`]), when the fabric
     /// has bending; `None` for the paper's membrane, which has no wrinkles to show.
     pub wrinkle_mm: Option<Vec<f64>>,
     /// Punch stroke reached, mm.

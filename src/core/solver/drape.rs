@@ -107,7 +107,7 @@ fn harmonic(neighbours: &[Vec<usize>], free: &[bool], moved: &[f64]) -> Vec<f64>
         }
     };
     let absolute = DRAPE_TOLERANCE * scale;
-    crate::core::conjugate::relax_free(laplacian, &mut v, 0.0, absolute, n);
+    crate::core::sparse::conjugate::relax_free(laplacian, &mut v, 0.0, absolute, n);
     v
 }
 

@@ -120,7 +120,7 @@ pub struct SolverOptions {
     /// Threads the sparse factorization and its solves may use: 0 (the default) as many as the
     /// assembly (rayon's pool when `parallel`, else one), 1 one, 2 or more two. On two, the
     /// equations are split into two halves of the blank and the line of nodes between them, each
-    /// half factorized on its own thread ([`crate::core::split_cholesky`]): the open box at fine
+    /// half factorized on its own thread ([`crate::core::sparse::split_cholesky`]): the open box at fine
     /// ran 1.2–1.3× faster on a 2-core machine (`bench --scaling` measures it on any machine),
     /// to round-off the same answer (`guide::cost_newton`, "Session fifteen").
     pub factor_threads: u32,

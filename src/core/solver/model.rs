@@ -4,11 +4,11 @@
 
 use rayon::prelude::*;
 
-use crate::core::bending::{self, Hinge, HingeResponse};
-use crate::core::element::{self, ElementGeometry, ElementOutput, GAUSS, GeometryError};
-use crate::core::law::{CellLaw, CrimpState};
-use crate::core::linear::{SparseCholesky, UpperPattern};
-use crate::core::mesh::Mesh;
+use crate::core::fabric::bending::{self, Hinge, HingeResponse};
+use crate::core::fabric::law::{CellLaw, CrimpState};
+use crate::core::membrane::element::{self, ElementGeometry, ElementOutput, GAUSS, GeometryError};
+use crate::core::membrane::mesh::Mesh;
+use crate::core::sparse::linear::{SparseCholesky, UpperPattern};
 
 /// An element of the initial mesh cannot be built.
 #[derive(Clone, Debug, PartialEq)]
@@ -56,7 +56,7 @@ pub struct Model {
     /// damping of the Newton corrections.
     pub(super) cell_stiffness: Vec<f64>,
     pub(super) outputs: Vec<ElementOutput>,
-    /// The bending hinges along the yarn lines ([`crate::core::bending`]; none: the paper's
+    /// The bending hinges along the yarn lines ([`crate::core::fabric::bending`]; none: the paper's
     /// membrane), the slots of their 9×9 upper triangles and their last evaluation.
     pub hinges: Vec<Hinge>,
     pub(super) hinge_slots: Vec<[u32; 45]>,

@@ -63,7 +63,7 @@ struct Attempt {
     lambda: f64,
     target: f64,
     u_start: Vec<f64>,
-    crimp_start: Vec<[crate::core::law::CrimpState; crate::core::element::GAUSS]>,
+    crimp_start: Vec<[crate::core::fabric::law::CrimpState; crate::core::membrane::element::GAUSS]>,
 }
 
 impl Solver<'_> {

@@ -9,7 +9,7 @@
 use super::Tool;
 use super::surface::TriSurface;
 use super::tessellate::{box_field, capped, tessellate};
-use crate::core::drawing::Tooling;
+use super::tooling::Tooling;
 
 /// How far the punch's capping box reaches beyond the die opening in plan, mm (it does not
 /// cut the punch, whose plan lies inside the opening).

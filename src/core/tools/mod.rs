@@ -25,6 +25,7 @@ pub mod scale;
 pub mod shells;
 pub mod surface;
 pub mod tessellate;
+pub mod tooling;
 
 /// A point's signed distance to a tool surface (negative inside the tool) and its gradient
 /// (the outward unit normal at the nearest surface point).

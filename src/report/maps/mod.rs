@@ -271,7 +271,7 @@ pub fn tension_map(result: &DrawingResult, ctx: &MapContext, break_tension_n: f6
     }
 }
 
-/// The map of the wrinkle amplitude (`core::wrinkle`, mm): each element the largest of its
+/// The map of the wrinkle amplitude (`core::wrinkles::amplitude`, mm): each element the largest of its
 /// nodes'. `None` for the paper's membrane, which has no bending and no wrinkles.
 pub fn wrinkle_map(result: &DrawingResult, ctx: &MapContext, limit_mm: f64) -> Option<FieldMap> {
     let per_node = result.wrinkle_mm.as_ref()?;

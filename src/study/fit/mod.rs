@@ -8,7 +8,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::core::law::{CellLaw, CellParams};
+use crate::core::fabric::law::{CellLaw, CellParams};
 
 mod identify;
 pub mod refine;

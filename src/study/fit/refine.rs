@@ -4,7 +4,7 @@
 //! finite-element test's force over the ideal one along the curve, so that the law fits the
 //! data through the model that will use it.
 
-use crate::core::bias::{BiasProblem, BiasResult, ideal_force, kinematic_limit};
+use crate::core::specimens::bias::{BiasProblem, BiasResult, ideal_force, kinematic_limit};
 use crate::scene::Scene;
 
 use super::shear::{BiasPoint, BiasSpecimen, ShearFit, fit_points, fit_shear_law};
@@ -92,7 +92,7 @@ pub fn refine(
         element_size,
         points: FE_POINTS,
         solver: scene.to_problem().solver,
-        toe_strain: crate::core::bias::BIAS_TOE_STRAIN,
+        toe_strain: crate::core::specimens::bias::BIAS_TOE_STRAIN,
     };
     let mut fit = ideal.clone();
     let mut pass = 0;

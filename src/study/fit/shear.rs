@@ -1,7 +1,7 @@
 //! The shear law from a bias-extension curve: `k1, k3, k5` of `M(γ) = k1 γ + k3 γ³ + k5 γ⁵`
 //! such that the force of the test matches the measured one.
 //!
-//! The ideal kinematics (`core::bias`) make the force linear in the coefficients,
+//! The ideal kinematics (`core::specimens::bias`) make the force linear in the coefficients,
 //! `F(d) = Σj kj φj(d)` with `φj = γʲ A_c γ' + (γ/2)ʲ A_h γ'/2`, so each pass is a linear
 //! least-squares problem on the relative residuals `(F − F_data)/F_data`, solved with
 //! `k ≥ 0` (a moment that never softens). The finite-element test departs from the ideal
@@ -11,8 +11,8 @@
 
 use std::path::Path;
 
-use crate::core::bias::{ideal_force_of, kinematic_limit};
-use crate::core::shear::ShearLaw;
+use crate::core::fabric::shear::ShearLaw;
+use crate::core::specimens::bias::{ideal_force_of, kinematic_limit};
 
 /// One measured point: grip displacement (mm) and force (N).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -154,7 +154,8 @@ pub fn fit_points(s: &BiasSpecimen, points: &[BiasPoint]) -> Vec<BiasPoint> {
                 && p.displacement_mm < limit
         })
         .filter(|p| {
-            crate::core::bias::ideal_shear(s.length, s.width, p.displacement_mm).to_degrees()
+            crate::core::specimens::bias::ideal_shear(s.length, s.width, p.displacement_mm)
+                .to_degrees()
                 <= s.max_shear_deg
         })
         .collect()
@@ -318,7 +319,7 @@ fn invert(a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::core::bias::ideal_force;
+    use crate::core::specimens::bias::ideal_force;
 
     #[test]
     fn a_curve_made_by_a_law_gives_the_law_back() {

@@ -1,24 +1,24 @@
 //! Shear-driven wrinkles: a bias strip (yarns at ±45° to its length, the bias-extension
-//! specimen of `core::bias`) clamped at both ends and shortened by `Δ`, out of its plane free,
+//! specimen of `core::specimens::bias`) clamped at both ends and shortened by `Δ`, out of its plane free,
 //! with a shear law, bending and compressive yarns. It shortens first by trellising (the yarns
 //! turn, none is compressed), which costs the shear law's moment; once pushing the trellis
 //! further costs more than bending the strip, it buckles.
 //!
 //! The estimate it is checked against (`src/guide/bending.md`): the trellis's force, from the
-//! ideal kinematics' energy balance in compression ([`crate::core::bias::ideal_force_of`] at
+//! ideal kinematics' energy balance in compression ([`crate::core::specimens::bias::ideal_force_of`] at
 //! `−Δ`), reaches the clamped strip's Euler force `4π² B_x W / H²`, `B_x = (B1 + B2)/4` the
 //! strip's rigidity along its length (a yarn at 45° sees half the curvature, and a hinge
 //! counts the square: each family gives `B/4`).
 
-use crate::core::bending;
-use crate::core::bias::{ideal_force_of, kinematic_limit, specimen_mesh};
-use crate::core::euler_strip::Shortening;
-use crate::core::law::{CellLaw, CellParams};
-use crate::core::mesh::Mesh;
-use crate::core::shear::ShearLaw;
+use crate::core::fabric::bending;
+use crate::core::fabric::law::{CellLaw, CellParams};
+use crate::core::fabric::shear::ShearLaw;
+use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::{Failure, Model, SolverOptions};
-use crate::core::strip::{self, DeadLoad};
-use crate::core::trigger::Trigger;
+use crate::core::specimens::bias::{ideal_force_of, kinematic_limit, specimen_mesh};
+use crate::core::specimens::euler_strip::Shortening;
+use crate::core::specimens::strip::{self, DeadLoad};
+use crate::core::wrinkles::trigger::Trigger;
 
 /// A bias strip shortened between clamps.
 #[derive(Clone, Debug)]
@@ -37,7 +37,7 @@ pub struct BiasWrinkleProblem {
     /// End shortening, mm, reached in `points` equal increments.
     pub shortening_mm: f64,
     pub points: usize,
-    /// The out-of-plane trigger ([`crate::core::trigger`]).
+    /// The out-of-plane trigger ([`crate::core::wrinkles::trigger`]).
     pub trigger: Trigger,
     pub solver: SolverOptions,
 }
@@ -48,7 +48,7 @@ pub struct BiasWrinkleResult {
     pub shortening_mm: Vec<f64>,
     /// The force on the moving clamp, compression positive, N.
     pub force_n: Vec<f64>,
-    /// The largest wrinkle amplitude ([`crate::core::wrinkle`], the clamps anchored), mm.
+    /// The largest wrinkle amplitude ([`crate::core::wrinkles::amplitude`], the clamps anchored), mm.
     pub wrinkle_mm: Vec<f64>,
     /// |Shear| of the element nearest the centre, degrees.
     pub shear_centre_deg: Vec<f64>,
@@ -121,7 +121,7 @@ impl BiasWrinkleProblem {
         let (h, w) = (self.length, self.width);
         let mesh = specimen_mesh(h, w, self.element_size);
         let lines = yarn_lines(&mesh);
-        let area = strip::tributary_areas(&mesh);
+        let area = crate::core::membrane::mesh::tributary_areas(&mesh);
         let first = mesh.nodes.iter().map(|p| p[0]).filter(|v| *v > 1e-9);
         let clamp = first.fold(f64::INFINITY, f64::min) + 1e-9;
         let clamped: Vec<bool> = (mesh.nodes.iter())
@@ -175,7 +175,8 @@ impl BiasWrinkleProblem {
                 }
             };
             let x = model.positions();
-            let wrinkles = crate::core::wrinkle::wrinkles_along(&mesh, &all_lines, &x, &clamped);
+            let wrinkles =
+                crate::core::wrinkles::amplitude::wrinkles_along(&mesh, &all_lines, &x, &clamped);
             out.shortening_mm.push(d(k));
             out.force_n.push(force);
             out.wrinkle_mm.push(wrinkles.max_mm);

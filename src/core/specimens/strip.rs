@@ -1,9 +1,9 @@
-//! What the bending checks' strips share (`core::cantilever`, `core::euler_strip`): the strip's
+//! What the bending checks' strips share (`core::specimens::cantilever`, `core::specimens::euler_strip`): the strip's
 //! yarn grid with clamped rows, the hinges at a clamp's edge, the loads of its own weight or a
 //! trigger, and the solver settings for forces of micronewtons against yarns of 10⁴ N.
 
-use crate::core::bending::Hinge;
-use crate::core::mesh::Mesh;
+use crate::core::fabric::bending::Hinge;
+use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::{NodalSums, NodalTerms, NodeBlock, SolverOptions};
 
 /// A strip of width `width` along x from `−h` to `length + extra·h` (`h` ≤ `element_size`, a
@@ -26,22 +26,6 @@ pub fn strip_mesh(
         std::f64::consts::FRAC_PI_2,
     );
     (mesh, h)
-}
-
-/// Each node's share of the initial area (a quarter of each of its elements), mm².
-pub fn tributary_areas(mesh: &Mesh) -> Vec<f64> {
-    let mut area = vec![0.0; mesh.nodes.len()];
-    for q in &mesh.quads {
-        let p = q.map(|n| mesh.nodes[n]);
-        let a = 0.5
-            * ((p[2][0] - p[0][0]) * (p[3][1] - p[1][1])
-                - (p[3][0] - p[1][0]) * (p[2][1] - p[0][1]))
-                .abs();
-        for &n in q {
-            area[n] += 0.25 * a;
-        }
-    }
-    area
 }
 
 /// Doubles the stiffness of each hinge that turns the free strip against a clamped segment

@@ -13,9 +13,9 @@
 
 use std::ops::ControlFlow;
 
-use crate::core::law::{CellLaw, CellParams};
-use crate::core::mesh::Mesh;
-use crate::core::shear::ShearLaw;
+use crate::core::fabric::law::{CellLaw, CellParams};
+use crate::core::fabric::shear::ShearLaw;
+use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::{
     Failure, LinearPrescribed, Model, NoNodalTerms, Prescribed, Solver, SolverOptions,
 };
@@ -36,7 +36,7 @@ pub struct BiasProblem {
     pub points: usize,
     pub solver: SolverOptions,
     /// The width of the toe rounding the yarns' slack/taut kink, a yarn strain
-    /// ([`crate::core::toe`]; 0 is the paper's kink; [`BIAS_TOE_STRAIN`] by default).
+    /// ([`crate::core::fabric::toe`]; 0 is the paper's kink; [`BIAS_TOE_STRAIN`] by default).
     pub toe_strain: f64,
 }
 

@@ -8,11 +8,10 @@
 //! (small deflection `w L⁴/(8B)`, the heavy elastica, Peirce's bending length
 //! `c = (B/w)^{1/3}`) are in `src/guide/bending.md`.
 
-use crate::core::bending;
-use crate::core::law::{CellLaw, CellParams};
-use crate::core::mesh::Mesh;
+use crate::core::fabric::law::{CellLaw, CellParams};
+use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::{Failure, LinearPrescribed, Model, Solver, SolverOptions};
-use crate::core::strip::{self, DeadLoad};
+use crate::core::specimens::strip::{self, DeadLoad};
 
 /// Standard gravity, m/s² (= N/kg).
 pub const GRAVITY: f64 = 9.80665;
@@ -112,13 +111,14 @@ impl CantileverProblem {
             .collect();
         let w = self.areal_mass_g_m2 * 1e-9 * GRAVITY; // g/m² → kg/mm², times g: N/mm²
         let mut weight = DeadLoad {
-            force_z: strip::tributary_areas(&mesh)
+            force_z: crate::core::membrane::mesh::tributary_areas(&mesh)
                 .iter()
                 .map(|a| -w * a)
                 .collect(),
             scaled: true,
         };
-        let mut hinges = bending::yarn_hinges(&mesh, self.bending_rigidity).expect("a yarn grid");
+        let mut hinges = crate::core::membrane::hinges::yarn_hinges(&mesh, self.bending_rigidity)
+            .expect("a yarn grid");
         strip::stiffen_clamp_edges(&mut hinges, column, |c| c <= 1);
         let law = CellLaw::new(self.fabric)
             .with_toe(crate::core::drawing::TOE_STRAIN)

@@ -90,12 +90,12 @@ const UNSTRAINED: f64 = 1e-12;
 pub struct CellLaw {
     pub p: CellParams,
     /// The in-plane shear law (beyond the paper); `None`: the paper's cell, free to shear.
-    pub shear: Option<crate::core::shear::ShearLaw>,
+    pub shear: Option<crate::core::fabric::shear::ShearLaw>,
     /// `1/ℓ0α`, the inverse initial doubled yarn length.
     inv_len0: [f64; 2],
     /// `e01 + e02`, mm.
     h_total: f64,
-    /// The width of the toe rounding the slack/taut kink, as a yarn strain ([`crate::core::toe`];
+    /// The width of the toe rounding the slack/taut kink, as a yarn strain ([`crate::core::fabric::toe`];
     /// 0: the paper's kink).
     toe: f64,
     /// Each yarn's stiffness in compression as a fraction of `C` (0: the paper's yarns, which
@@ -142,7 +142,7 @@ impl CellLaw {
     }
 
     /// The same cell with yarns that resist compression with the stiffness `fraction · C`
-    /// (per yarn; [`crate::core::toe::phi_compressive`]). The linear law only: the woven law's
+    /// (per yarn; [`crate::core::fabric::toe::phi_compressive`]). The linear law only: the woven law's
     /// crimp interchange has no compressive branch.
     pub fn with_compression(mut self, fraction: [f64; 2]) -> Self {
         self.compression = fraction.map(|f| f.max(0.0));
@@ -150,13 +150,13 @@ impl CellLaw {
     }
 
     /// The same cell with the in-plane shear law `shear` (or none).
-    pub fn with_shear(mut self, shear: Option<crate::core::shear::ShearLaw>) -> Self {
+    pub fn with_shear(mut self, shear: Option<crate::core::fabric::shear::ShearLaw>) -> Self {
         self.shear = shear;
         self
     }
 
     /// The same cell with the slack/taut kink rounded over a yarn strain `toe`
-    /// ([`crate::core::toe`]; 0 keeps the paper's kink).
+    /// ([`crate::core::fabric::toe`]; 0 keeps the paper's kink).
     pub fn with_toe(mut self, toe: f64) -> Self {
         self.toe = toe.max(0.0);
         self
@@ -197,7 +197,7 @@ impl CellLaw {
     /// `s = len/ℓ0 − 1`, written as `q = φ/len` in place of `1/ℓ0 − 1/len`.
     fn yarn_on_toe(&self, a: usize, h: f64, l: f64, len: f64) -> Yarn {
         let c = self.p.c[a];
-        let (phi, dphi) = crate::core::toe::phi(len * self.inv_len0[a] - 1.0, self.toe);
+        let (phi, dphi) = crate::core::fabric::toe::phi(len * self.inv_len0[a] - 1.0, self.toe);
         let q = phi / len;
         // dq/dlen, and through len = √(4h² + l²) its partials in h and l.
         let dq = (dphi * self.inv_len0[a] - q) / len;
@@ -499,11 +499,11 @@ impl CellLaw {
             // (the initial state) resists stretching, and the solver must see it.
             if self.compression[a] > 0.0 {
                 let rc = self.compression[a];
-                let (phi, dphi) = crate::core::toe::phi_compressive(eps[a], self.toe, rc);
+                let (phi, dphi) = crate::core::fabric::toe::phi_compressive(eps[a], self.toe, rc);
                 r.t[a] = self.p.c[a] * phi;
                 r.dt[a][a] = self.p.c[a] * dphi;
             } else if self.toe > 0.0 {
-                let (phi, dphi) = crate::core::toe::phi(eps[a], self.toe);
+                let (phi, dphi) = crate::core::fabric::toe::phi(eps[a], self.toe);
                 r.t[a] = self.p.c[a] * phi;
                 // The same for an unstrained yarn on the toe, whose own slope there is zero:
                 // the taut one. Only the tangent changes, so only where Newton goes, not where
@@ -524,13 +524,13 @@ impl CellLaw {
     }
 
     /// Yarn α's energy over length `len0` at strain `s`, N·mm: `C len0 max(s, 0)²/2`, or on
-    /// the toe `C len0 Φ(s)` ([`crate::core::toe::energy`]).
+    /// the toe `C len0 Φ(s)` ([`crate::core::fabric::toe::energy`]).
     fn yarn_energy(&self, a: usize, len0: f64, s: f64) -> f64 {
         if self.compression[a] > 0.0 {
             let rc = self.compression[a];
-            self.p.c[a] * len0 * crate::core::toe::energy_compressive(s, self.toe, rc)
+            self.p.c[a] * len0 * crate::core::fabric::toe::energy_compressive(s, self.toe, rc)
         } else if self.toe > 0.0 {
-            self.p.c[a] * len0 * crate::core::toe::energy(s, self.toe)
+            self.p.c[a] * len0 * crate::core::fabric::toe::energy(s, self.toe)
         } else {
             0.5 * self.p.c[a] * len0 * s.max(0.0).powi(2)
         }

@@ -50,3 +50,19 @@ impl Mesh {
         3 * self.nodes.len()
     }
 }
+
+/// Each node's share of the initial area (a quarter of each of its elements), mm².
+pub fn tributary_areas(mesh: &Mesh) -> Vec<f64> {
+    let mut area = vec![0.0; mesh.nodes.len()];
+    for q in &mesh.quads {
+        let p = q.map(|n| mesh.nodes[n]);
+        let a = 0.5
+            * ((p[2][0] - p[0][0]) * (p[3][1] - p[1][1])
+                - (p[3][0] - p[1][0]) * (p[2][1] - p[0][1]))
+                .abs();
+        for &n in q {
+            area[n] += 0.25 * a;
+        }
+    }
+    area
+}

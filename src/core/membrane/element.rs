@@ -23,7 +23,7 @@
 //! The number of cells of the element is its initial area over the cell area `L01 L02 sin φ0`
 //! (fractional allowed), shared among the 2×2 Gauss points by their weights.
 
-use super::law::{CellLaw, CellResponse, CrimpState};
+use crate::core::fabric::law::{CellLaw, CellResponse, CrimpState};
 
 /// Gauss points of the element (2×2).
 pub const GAUSS: usize = 4;
@@ -401,13 +401,13 @@ fn assemble_tangent(
 ///   K = A [M'(γ) G Gᵀ + M(γ) Σαβ dαN^k dβN^q ∂²γ/∂fα[m]∂fβ[n]]
 /// ```
 fn add_shear(
-    law: &crate::core::shear::ShearLaw,
+    law: &crate::core::fabric::shear::ShearLaw,
     (d, f, theta0, area): (&[[f64; 4]; 2], &[[f64; 3]; 2], f64, f64),
     tangent: bool,
     out: &mut ElementOutput,
     k: &mut [[f64; 12]; 12],
 ) -> f64 {
-    let kin = crate::core::shear::shear_kinematics(f, theta0, tangent);
+    let kin = crate::core::fabric::shear::shear_kinematics(f, theta0, tangent);
     let g = kin.gamma;
     let m = area * law.moment(g);
     let mut grad = [0.0; 12];

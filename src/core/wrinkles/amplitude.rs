@@ -22,8 +22,8 @@
 //! line) has no unique reference: the conjugate gradients start from the positions, so what
 //! they cannot fix stays where it is and shows no deviation there.
 
-use super::mesh::Mesh;
-use super::vec3::{cross, dot, sub};
+use crate::core::membrane::mesh::Mesh;
+use crate::core::vec3::{cross, dot, sub};
 
 /// The wrinkle field of a deformed yarn-grid blank.
 #[derive(Clone, Debug, PartialEq)]
@@ -114,7 +114,7 @@ fn reference(
     for m in 0..3 {
         let mut u: Vec<f64> = x.iter().map(|p| p[m]).collect();
         let operator = |v: &[f64], out: &mut [f64]| apply(kind, lines, anchored, v, out);
-        crate::core::conjugate::relax_free(operator, &mut u, 1e-10, 0.0, 20_000);
+        crate::core::sparse::conjugate::relax_free(operator, &mut u, 1e-10, 0.0, 20_000);
         for (r, ui) in reference.iter_mut().zip(u) {
             r[m] = ui;
         }

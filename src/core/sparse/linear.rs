@@ -2,7 +2,7 @@
 //! symbolic Cholesky analysis (fill-reducing ordering applied to the pattern itself, elimination
 //! tree, supernodes) done once on it, and a numeric `LLᵀ` factorization per iteration into reused
 //! storage. On two threads the factorization and its solves are split over two halves of the
-//! equations ([`crate::core::split_cholesky`]). When the tangent is not positive definite, the
+//! equations ([`crate::core::sparse::split_cholesky`]). When the tangent is not positive definite, the
 //! factorization is retried on `K + δ·diag(K)` with growing `δ`.
 
 use faer::dyn_stack::{MemBuffer, MemStack};

@@ -11,10 +11,9 @@
 //! nearly flat until the end force reaches `4π²BW/L²`, then buckles, the force staying near
 //! that value and the amplitude `(2/π)√(L(Δ − Δc))`.
 
-use crate::core::bending;
-use crate::core::law::{CellLaw, CellParams};
+use crate::core::fabric::law::{CellLaw, CellParams};
 use crate::core::solver::{Failure, Model, Prescribed, Solver, SolverOptions};
-use crate::core::strip::{self, DeadLoad};
+use crate::core::specimens::strip::{self, DeadLoad};
 
 /// A clamped–clamped strip shortened by `shortening_mm`.
 #[derive(Clone, Debug)]
@@ -46,7 +45,7 @@ pub struct EulerStripResult {
     pub force_n: Vec<f64>,
     /// The deflection at mid-length below the clamps' plane (mean over the width), mm.
     pub amplitude_mm: Vec<f64>,
-    /// The wrinkle figure of the strip ([`crate::core::wrinkle`], the clamps anchored), mm.
+    /// The wrinkle figure of the strip ([`crate::core::wrinkles::amplitude`], the clamps anchored), mm.
     pub wrinkle_mm: Vec<f64>,
     pub failure: Option<Failure>,
 }
@@ -66,7 +65,8 @@ impl EulerStripProblem {
             .iter()
             .map(|&d| d % 3 == 0 && column(d / 3) >= n1 - 1)
             .collect();
-        let mut hinges = bending::yarn_hinges(&mesh, self.bending_rigidity).expect("a yarn grid");
+        let mut hinges = crate::core::membrane::hinges::yarn_hinges(&mesh, self.bending_rigidity)
+            .expect("a yarn grid");
         strip::stiffen_clamp_edges(&mut hinges, column, clamped);
         let law = CellLaw::new(self.fabric)
             .with_toe(crate::core::drawing::TOE_STRAIN)
@@ -83,7 +83,7 @@ impl EulerStripProblem {
         };
         let q = self.trigger_sag_mm * 384.0 * self.bending_rigidity[0] / self.length.powi(4);
         let mut trigger = DeadLoad {
-            force_z: strip::tributary_areas(&mesh)
+            force_z: crate::core::membrane::mesh::tributary_areas(&mesh)
                 .iter()
                 .map(|a| -q * a)
                 .collect(),
@@ -114,7 +114,7 @@ impl EulerStripProblem {
             out.force_n.push(force);
             out.amplitude_mm.push(amp);
             let anchored: Vec<bool> = (0..x.len()).map(|i| clamped(column(i))).collect();
-            let w = crate::core::wrinkle::wrinkles(&mesh, &x, &anchored);
+            let w = crate::core::wrinkles::amplitude::wrinkles(&mesh, &x, &anchored);
             out.wrinkle_mm.push(w.map_or(0.0, |w| w.max_mm));
         }
         out

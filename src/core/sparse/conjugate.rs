@@ -2,7 +2,7 @@
 //! `A u` vanish on the free rows, the held entries kept as they are. Used where a net or a plate
 //! is hung between nodes that something else places: the drape predictor
 //! ([`crate::core::solver`]) and the wrinkle measure's reference surfaces
-//! ([`crate::core::wrinkle`]).
+//! ([`crate::core::wrinkles::amplitude`]).
 
 /// Improves `u` in place by conjugate gradients on the symmetric positive semi-definite
 /// operator `apply` (`apply(v, out)` sets `out = A v`, zero on the held rows, whatever `v`
