@@ -8,7 +8,9 @@ use serde::Serialize;
 
 use super::scene_args::{OutArgs, SceneFileArgs};
 use super::{CliError, outputs};
-use wovenform::core::specimens::cantilever::{CantileverProblem, CantileverResult};
+use wovenform::core::specimens::cantilever::{
+    CantileverProblem, CantileverResult, peirce_rigidity,
+};
 use wovenform::scene::{Override, specimen};
 use wovenform::show::{Fixed, Num};
 
@@ -52,12 +54,6 @@ struct CantileverOutput {
     failure: Option<String>,
     wall_s: f64,
     files: Vec<String>,
-}
-
-/// Peirce's rigidity from an overhang `l` (mm), its chord angle `phi` (rad) and the areal
-/// weight `w` (N/mm²): `(L/c)³ = 8 tan φ / cos(φ/2)`, `B = w c³`.
-fn peirce_rigidity(l: f64, phi: f64, w: f64) -> f64 {
-    w * l.powi(3) * (0.5 * phi).cos() / (8.0 * phi.tan())
 }
 
 /// The test the arguments and the scene describe, every bound checked before any work; an
@@ -104,24 +100,7 @@ pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
         r.areal_weight_n_mm2,
     );
     if args.json {
-        let out = CantileverOutput {
-            length_mm: args.length,
-            width_mm: args.width,
-            bending_rigidity_nmm: rigidity,
-            areal_mass_g_m2: mass,
-            bending_length_mm: c,
-            tip_deflection_mm: r.tip_deflection_mm,
-            tip_reach_mm: r.tip_reach_mm,
-            tip_angle_deg: r.tip_angle_deg,
-            chord_angle_deg: r.chord_angle_deg,
-            peirce_rigidity_nmm: peirce,
-            newton_iterations: r.newton_iterations,
-            converged: r.failure.is_none(),
-            failure: r.failure.as_ref().map(|f| f.to_string()),
-            wall_s,
-            files: vec![png.display().to_string()],
-        };
-        println!("{}", serde_json::to_string(&out).expect("plain data"));
+        print_json(&args, &problem, c, peirce, &r, wall_s, &png);
     } else {
         print_text(&args, rigidity[0], mass, c, peirce, &r, wall_s);
         println!();
@@ -131,6 +110,37 @@ pub fn exec(args: CantileverArgs) -> Result<(), CliError> {
         Some(f) => Err(CliError::failed(format!("{}: {f}", file.display()))),
         None => Ok(()),
     }
+}
+
+/// The test's figures as one JSON object on stdout.
+fn print_json(
+    args: &CantileverArgs,
+    problem: &CantileverProblem,
+    c: f64,
+    peirce: f64,
+    r: &CantileverResult,
+    wall_s: f64,
+    png: &std::path::Path,
+) {
+    let (rigidity, mass) = (problem.bending_rigidity, problem.areal_mass_g_m2);
+    let out = CantileverOutput {
+        length_mm: args.length,
+        width_mm: args.width,
+        bending_rigidity_nmm: rigidity,
+        areal_mass_g_m2: mass,
+        bending_length_mm: c,
+        tip_deflection_mm: r.tip_deflection_mm,
+        tip_reach_mm: r.tip_reach_mm,
+        tip_angle_deg: r.tip_angle_deg,
+        chord_angle_deg: r.chord_angle_deg,
+        peirce_rigidity_nmm: peirce,
+        newton_iterations: r.newton_iterations,
+        converged: r.failure.is_none(),
+        failure: r.failure.as_ref().map(|f| f.to_string()),
+        wall_s,
+        files: vec![png.display().to_string()],
+    };
+    println!("{}", serde_json::to_string(&out).expect("plain data"));
 }
 
 fn print_text(

@@ -47,7 +47,7 @@ pub struct FitArgs {
 pub fn exec(args: FitArgs) -> Result<(), CliError> {
     let scene = args.scene.load()?;
     if let Some(specimen) = args.bias {
-        return super::fit_bias::exec(&scene, super::fit_bias::BiasFitArgs::of(&args, specimen));
+        return super::fit_bias::exec(&scene, bias_fit_args(&args, specimen));
     }
     let samples =
         fitting::read_samples(&args.data).map_err(|e| CliError::bad_input(e.to_string()))?;
@@ -116,4 +116,18 @@ fn print_result(args: &FitArgs, result: &FitResult) {
     println!("RMS residual = {:.4} N", result.rms_n);
     println!("points = {}", result.points);
     println!("iterations = {}", result.iterations);
+}
+
+/// What `fit --bias HxW` (the specimen's sides) was given.
+fn bias_fit_args(args: &FitArgs, specimen: [f64; 2]) -> super::fit_bias::BiasFitArgs<'_> {
+    super::fit_bias::BiasFitArgs {
+        data: &args.data,
+        specimen,
+        max_shear_deg: args.max_shear,
+        from_mm: args.from_mm,
+        refine: args.refine,
+        element_size: args.element_size,
+        out: args.out.out.clone(),
+        scene_file: args.scene.scene.clone(),
+    }
 }

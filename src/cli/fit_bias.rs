@@ -43,22 +43,6 @@ pub struct BiasFitArgs<'a> {
     pub scene_file: Option<PathBuf>,
 }
 
-impl<'a> BiasFitArgs<'a> {
-    /// What `fit --bias HxW` (the specimen's sides) was given.
-    pub fn of(args: &'a super::fit::FitArgs, specimen: [f64; 2]) -> BiasFitArgs<'a> {
-        BiasFitArgs {
-            data: &args.data,
-            specimen,
-            max_shear_deg: args.max_shear,
-            from_mm: args.from_mm,
-            refine: args.refine,
-            element_size: args.element_size,
-            out: args.out.out.clone(),
-            scene_file: args.scene.scene.clone(),
-        }
-    }
-}
-
 pub fn exec(scene: &Scene, args: BiasFitArgs) -> Result<(), CliError> {
     let bad = |e: String| CliError::bad_input(e);
     let specimen = check(scene, &args)?;

@@ -16,7 +16,7 @@ use wovenform::files::Input;
 use wovenform::publish;
 use wovenform::report::frontier::{frontier_json, runs_line, table};
 use wovenform::report::plural;
-use wovenform::study::frontier::{self, Lattice, Progress};
+use wovenform::study::frontier::{self, Frontier, Lattice, Progress};
 use wovenform::study::sweep::{Plan, Shard};
 
 #[derive(Args, Debug)]
@@ -55,6 +55,24 @@ pub fn exec(args: FrontierArgs) -> Result<(), CliError> {
     let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
     let lattice = Lattice::new(&plan, &args.along)?;
     check_outputs(&plan, &args)?;
+    let found = search_with_progress(&lattice, &args)?;
+    let level = Accuracy::of_element_size(plan.base_scene.mesh.element_size).map(|a| a.name());
+    let files = publish::write_frontier(&found, &args.out, level)
+        .map_err(|e| CliError::failed(e.to_string()))?;
+    if args.json {
+        print!("{}", frontier_json(&found, level));
+        return Ok(());
+    }
+    print!("{}", table(&found));
+    println!("{}", runs_line(&found));
+    for f in files {
+        println!("{}", f.display());
+    }
+    Ok(())
+}
+
+/// The search, announced on stderr with a bar of its runs (a line per run off a terminal).
+fn search_with_progress(lattice: &Lattice, args: &FrontierArgs) -> Result<Frontier, CliError> {
     let combos = (0..lattice.combos.len())
         .filter(|c| args.shard.is_none_or(|s| s.contains(*c)))
         .count();
@@ -75,7 +93,21 @@ pub fn exec(args: FrontierArgs) -> Result<(), CliError> {
     if terminal {
         bar.enable_steady_tick(std::time::Duration::from_millis(200));
     }
-    let progress = |p: Progress| match p {
+    let progress = |p: Progress| show_progress(&bar, terminal, p);
+    let options = frontier::Options {
+        jobs: args.jobs,
+        shard: args.shard,
+        resume: args.resume,
+        stop: None,
+    };
+    let found = frontier::search(lattice, &args.out, &options, &progress);
+    bar.finish_and_clear();
+    Ok(found?)
+}
+
+/// One step of the search on the bar, and as a line when stderr is no terminal.
+fn show_progress(bar: &indicatif::ProgressBar, terminal: bool, p: Progress) {
+    match p {
         Progress::Round {
             round,
             to_run,
@@ -98,29 +130,7 @@ pub fn exec(args: FrontierArgs) -> Result<(), CliError> {
                 eprintln!("[{done}] {} {}", row.design, row.verdict.word());
             }
         }
-    };
-    let options = frontier::Options {
-        jobs: args.jobs,
-        shard: args.shard,
-        resume: args.resume,
-        stop: None,
-    };
-    let found = frontier::search(&lattice, &args.out, &options, &progress);
-    bar.finish_and_clear();
-    let found = found?;
-    let level = Accuracy::of_element_size(plan.base_scene.mesh.element_size).map(|a| a.name());
-    let files = publish::write_frontier(&found, &args.out, level)
-        .map_err(|e| CliError::failed(e.to_string()))?;
-    if args.json {
-        print!("{}", frontier_json(&found, level));
-        return Ok(());
     }
-    print!("{}", table(&found));
-    println!("{}", runs_line(&found));
-    for f in files {
-        println!("{}", f.display());
-    }
-    Ok(())
 }
 
 /// Refuses an output folder where the frontier's files would overwrite its inputs.

@@ -26,16 +26,25 @@ pub struct RunArgs {
     pub newton_trace: bool,
 }
 
-pub fn exec(args: RunArgs) -> Result<(), CliError> {
+/// The output folder, checked before the solve so that a bad one costs nothing.
+fn output_folder(
+    args: &RunArgs,
+    scene: &wovenform::scene::Scene,
+) -> Result<std::path::PathBuf, CliError> {
     let file = &args.scene.scene;
-    let scene = args.scene.load_with(&args.accuracy.with(&args.scene.set))?;
-    // The output folder is checked before the solve, so a bad one costs nothing.
     let dir = args.out.dir("", file);
     let mut files = outputs::in_dir(&dir, &RUN_FILES);
     if args.newton_trace {
         files.extend(outputs::in_dir(&dir, &NEWTON_TRACE_FILES));
     }
-    outputs::prepare(&dir, &files, &outputs::scene_inputs(Some(file), &scene))?;
+    outputs::prepare(&dir, &files, &outputs::scene_inputs(Some(file), scene))?;
+    Ok(dir)
+}
+
+pub fn exec(args: RunArgs) -> Result<(), CliError> {
+    let file = &args.scene.scene;
+    let scene = args.scene.load_with(&args.accuracy.with(&args.scene.set))?;
+    let dir = output_folder(&args, &scene)?;
     let stroke = scene.process.stroke;
     let bar = stroke_bar(stroke);
     let name = outputs::stem(file, "scene");

@@ -193,39 +193,32 @@ fn scripts(job: &ArrayJob) -> Result<[(PathBuf, String); 3], CliError> {
     ])
 }
 
-pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
-    check(&args)?;
-    let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
-    // A frontier's folders hold its lattice's plan; its work is a few runs a combination.
-    let (plan, designs, most) = match &args.frontier {
+/// The plan the tasks run, how many runs it holds and the most tasks it can use: a sweep's
+/// designs, or for a frontier its lattice's plan, a few runs a combination and no more
+/// tasks than combinations (a task searches whole combinations).
+fn work_of(plan: Plan, args: &SlurmArgs) -> Result<(Plan, usize, usize), CliError> {
+    match &args.frontier {
         None => {
             let n = plan.len();
-            (plan, n, MAX_TASKS)
+            Ok((plan, n, MAX_TASKS))
         }
         Some(key) => {
-            // A task searches whole combinations: no more tasks than combinations.
             let lattice =
                 wovenform::study::frontier::Lattice::asked_with(&plan, key, "--frontier")?;
             let combos = lattice.combos.len();
-            (lattice.plan, RUNS_PER_COMBINATION * combos, combos)
+            Ok((lattice.plan, RUNS_PER_COMBINATION * combos, combos))
         }
-    };
-    let per_design_s = wovenform::study::estimate::run_seconds(&plan.base_scene);
-    let tasks = tasks_for(
-        designs,
-        per_design_s,
-        args.cpus_per_task,
-        args.tasks,
-        args.min_task_s,
-    )
-    .min(most);
-    let job = array_job(&args, tasks)?;
-    let scripts = scripts(&job)?;
-    refuse_other_sweeps(&job.out, &plan)?;
-    if tasks < args.tasks {
-        say_fewer_tasks(&args, designs, per_design_s, tasks);
     }
-    write_scripts(&job, &scripts)?;
+}
+
+/// Says what was written and submits the two jobs with `--submit`, or says how.
+fn announce_and_submit(
+    args: &SlurmArgs,
+    job: &ArrayJob,
+    scripts: &[(PathBuf, String); 3],
+    designs: usize,
+    tasks: usize,
+) -> Result<(), CliError> {
     let [(array, _), (merge, _), (submit, _)] = &scripts;
     println!(
         "{}: {designs} {} in {tasks} array task(s) of {} cpus\n{}: the merge into {}, after the array (afterok)",
@@ -247,6 +240,30 @@ pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
         let submit = quoted(&submit.display().to_string());
         println!("submit both with: bash {submit}");
     }
+    Ok(())
+}
+
+pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
+    check(&args)?;
+    let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
+    let (plan, designs, most) = work_of(plan, &args)?;
+    let per_design_s = wovenform::study::estimate::run_seconds(&plan.base_scene);
+    let tasks = tasks_for(
+        designs,
+        per_design_s,
+        args.cpus_per_task,
+        args.tasks,
+        args.min_task_s,
+    )
+    .min(most);
+    let job = array_job(&args, tasks)?;
+    let scripts = scripts(&job)?;
+    refuse_other_sweeps(&job.out, &plan)?;
+    if tasks < args.tasks {
+        say_fewer_tasks(&args, designs, per_design_s, tasks);
+    }
+    write_scripts(&job, &scripts)?;
+    announce_and_submit(&args, &job, &scripts, designs, tasks)?;
     Ok(())
 }
 

@@ -271,3 +271,47 @@ fn no_file_over_700_lines_and_no_function_over_80() {
     let long = format!("fn long() {{\n{body}}}\n");
     assert_eq!(long_functions(&long, 80), ["long (83 lines)"]);
 }
+
+/// The command line's files (`cli/*.rs`) with their code.
+fn command_line(src: &Path) -> BTreeMap<String, String> {
+    let mut out = BTreeMap::new();
+    for entry in std::fs::read_dir(src.join("cli")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "rs") {
+            let name = format!("cli/{}", path.file_name().unwrap().to_string_lossy());
+            out.insert(name, code(&std::fs::read_to_string(&path).unwrap()));
+        }
+    }
+    out
+}
+
+#[test]
+fn the_command_line_is_thin_and_its_files_do_not_use_each_other() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let files = command_line(&src);
+    let mut wrong = Vec::new();
+    // Each command's `exec` reads on one screen: parse, call the library, print.
+    for (name, code) in &files {
+        for f in long_functions(code, 40) {
+            if f.starts_with("exec ") {
+                wrong.push(format!("{name}: fn {f}, over 40"));
+            }
+        }
+    }
+    // `super::x` from one command file to another, both ways, is a circle.
+    let uses = |a: &str, b: &str| {
+        let stem = b.trim_start_matches("cli/").trim_end_matches(".rs");
+        files[a].contains(&format!("super::{stem}::"))
+            || files[a].contains(&format!("super::{stem};"))
+    };
+    for a in files.keys() {
+        for b in files.keys() {
+            if a < b && !a.ends_with("mod.rs") && !b.ends_with("mod.rs") && uses(a, b) && uses(b, a)
+            {
+                wrong.push(format!("{a} and {b} use each other"));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "the command line:\n{}", wrong.join("\n"));
+    assert!(files.contains_key("cli/run.rs"), "{:?}", files.keys());
+}

@@ -13,6 +13,12 @@ use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::{Failure, LinearPrescribed, Model, Solver, SolverOptions};
 use crate::core::specimens::strip::{self, DeadLoad};
 
+/// Peirce's rigidity from an overhang `l` (mm), its chord angle `phi` (rad) and the areal
+/// weight `w` (N/mm²): `(L/c)³ = 8 tan φ / cos(φ/2)`, `B = w c³` (Peirce 1930; ASTM D1388).
+pub fn peirce_rigidity(l: f64, phi: f64, w: f64) -> f64 {
+    w * l.powi(3) * (0.5 * phi).cos() / (8.0 * phi.tan())
+}
+
 /// Standard gravity, m/s² (= N/kg).
 pub const GRAVITY: f64 = 9.80665;
 
