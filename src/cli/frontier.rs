@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::progress::stderr_bar;
-use super::scene_args::{AccuracyArgs, SetArgs};
+use super::scene_args::GridArgs;
 use super::{CliError, outputs};
 use wovenform::accuracy::Accuracy;
 use wovenform::files::Input;
@@ -21,16 +21,12 @@ use wovenform::study::sweep::{Plan, Shard};
 
 #[derive(Args, Debug)]
 pub struct FrontierArgs {
-    /// Sweep file (TOML): a base scene and a [sweep] table; KEY's values give the range
-    /// searched and, by their count, the resolution (one step of that grid).
-    #[arg(value_name = "SWEEP.toml")]
-    pub sweep: PathBuf,
+    #[command(flatten)]
+    pub grid: GridArgs,
     /// The number axis to search along: a short name (r, rp, rm, friction,
     /// holder_pressure) or a scene key swept in the file with two or more numbers.
     #[arg(long, value_name = "KEY")]
     pub along: String,
-    #[command(flatten)]
-    pub set: SetArgs,
     /// Output folder: results.csv (a row per run, as a sweep's), the fields, frontier.*.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
@@ -47,12 +43,10 @@ pub struct FrontierArgs {
     /// Print frontier.json on stdout instead of the table.
     #[arg(long)]
     pub json: bool,
-    #[command(flatten)]
-    pub accuracy: AccuracyArgs,
 }
 
 pub fn exec(args: FrontierArgs) -> Result<(), CliError> {
-    let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
+    let plan = args.grid.plan()?;
     let lattice = Lattice::new(&plan, &args.along)?;
     check_outputs(&plan, &args)?;
     let found = search_with_progress(&lattice, &args)?;
@@ -137,7 +131,7 @@ fn show_progress(bar: &indicatif::ProgressBar, terminal: bool, p: Progress) {
 fn check_outputs(plan: &Plan, args: &FrontierArgs) -> Result<(), CliError> {
     let base = plan.base_file.as_deref().map(std::path::Path::new);
     let mut inputs = outputs::scene_inputs(base, &plan.base_scene);
-    inputs.push(Input::new(&args.sweep, "the sweep file"));
+    inputs.push(Input::new(&args.grid.sweep, "the sweep file"));
     let names = [&publish::SWEEP_FILES[..], &publish::FRONTIER_FILES[..]].concat();
     let files = outputs::in_dir(&args.out, &names);
     wovenform::files::check_outputs(&files, &inputs).map_err(|e| CliError::bad_input(e.to_string()))

@@ -54,6 +54,30 @@ impl OutArgs {
     }
 }
 
+/// The grid a sweep, a frontier and a Slurm job array run: the sweep file with its `--set`
+/// overrides of the base scene and the accuracy level.
+#[derive(Args, Debug, Clone)]
+pub struct GridArgs {
+    /// Sweep file (TOML): a base scene and a [sweep] table of parameters (for a frontier, its
+    /// axis's values give the range searched and, by their count, the resolution: one step of
+    /// that grid).
+    #[arg(value_name = "SWEEP.toml")]
+    pub sweep: PathBuf,
+    // `--set` is passed on to every run (and every Slurm task).
+    #[command(flatten)]
+    pub set: SetArgs,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
+}
+
+impl GridArgs {
+    /// The plan of the sweep file with the level's and the user's overrides.
+    pub fn plan(&self) -> Result<wovenform::study::sweep::Plan, CliError> {
+        let sets = self.accuracy.with(&self.set);
+        Ok(wovenform::study::sweep::Plan::load(&self.sweep, &sets)?)
+    }
+}
+
 /// A scene file given as the command's argument, with its overrides.
 #[derive(Args, Debug, Clone)]
 pub struct SceneFileArgs {

@@ -7,7 +7,7 @@ use std::process::Command;
 use clap::Args;
 
 use super::CliError;
-use super::scene_args::{AccuracyArgs, SetArgs};
+use super::scene_args::GridArgs;
 use wovenform::study::slurm::{
     ArrayJob, MAX_CPUS_PER_TASK, MAX_TASKS, ScriptError, is_slurm_time, job_name, quoted, tasks_for,
 };
@@ -16,12 +16,8 @@ use wovenform::study::sweep::holds_this_sweep;
 
 #[derive(Args, Debug)]
 pub struct SlurmArgs {
-    /// Sweep file (TOML).
-    #[arg(value_name = "SWEEP.toml")]
-    pub sweep: PathBuf,
-    // `--set` is passed on to every task.
     #[command(flatten)]
-    pub set: SetArgs,
+    pub grid: GridArgs,
     /// Output folder: the shards go to DIR/shards/I, the merged sweep to DIR, the scripts and
     /// logs to DIR/slurm.
     #[arg(long, value_name = "DIR")]
@@ -39,8 +35,6 @@ pub struct SlurmArgs {
     /// D-HH:MM, D-HH:MM:SS or UNLIMITED.
     #[arg(long, value_name = "HH:MM:SS")]
     pub time: Option<String>,
-    #[command(flatten)]
-    pub accuracy: AccuracyArgs,
     /// Estimated work per task at least, s: designs too quick to fill --tasks tasks share
     /// fewer (an allocation costs its queueing and start).
     #[arg(long, value_name = "SECONDS", default_value_t = wovenform::study::slurm::MIN_TASK_WORK_S)]
@@ -164,15 +158,15 @@ fn sbatch(args: &[String], script: &Path) -> Result<String, CliError> {
 
 /// The job of `tasks` tasks, from the options.
 fn array_job(args: &SlurmArgs, tasks: usize) -> Result<ArrayJob, CliError> {
-    let stem = args.sweep.file_stem().unwrap_or_default();
+    let stem = args.grid.sweep.file_stem().unwrap_or_default();
     Ok(ArrayJob {
         name: job_name(&stem.to_string_lossy()),
         binary: std::env::current_exe()
             .map_err(|e| CliError::failed(format!("cannot find this program's path: {e}")))?,
-        sweep: absolute(&args.sweep)?,
+        sweep: absolute(&args.grid.sweep)?,
         out: absolute(&args.out)?,
-        sets: args.set.set.clone(),
-        accuracy: args.accuracy.accuracy.map(|a| a.name().to_string()),
+        sets: args.grid.set.set.clone(),
+        accuracy: args.grid.accuracy.accuracy.map(|a| a.name().to_string()),
         tasks,
         cpus_per_task: args.cpus_per_task,
         partition: args.partition.clone(),
@@ -245,7 +239,7 @@ fn announce_and_submit(
 
 pub fn exec(args: SlurmArgs) -> Result<(), CliError> {
     check(&args)?;
-    let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
+    let plan = args.grid.plan()?;
     let (plan, designs, most) = work_of(plan, &args)?;
     let per_design_s = wovenform::study::estimate::run_seconds(&plan.base_scene);
     let tasks = tasks_for(

@@ -8,7 +8,7 @@ use clap::Args;
 use indicatif::ProgressBar;
 
 use super::progress::stderr_bar;
-use super::scene_args::{AccuracyArgs, SetArgs};
+use super::scene_args::GridArgs;
 use super::{CliError, outputs};
 use wovenform::files::Input;
 use wovenform::publish;
@@ -18,11 +18,8 @@ use wovenform::study::sweep::{self, Outcome, Plan, Progress, Shard, counts};
 
 #[derive(Args, Debug)]
 pub struct SweepArgs {
-    /// Sweep file (TOML): a base scene and a [sweep] table of parameters.
-    #[arg(value_name = "SWEEP.toml")]
-    pub sweep: PathBuf,
     #[command(flatten)]
-    pub set: SetArgs,
+    pub grid: GridArgs,
     /// Output folder.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
@@ -35,12 +32,10 @@ pub struct SweepArgs {
     /// Continue a sweep in DIR: keep its rows for this base scene, run the missing designs.
     #[arg(long)]
     pub resume: bool,
-    #[command(flatten)]
-    pub accuracy: AccuracyArgs,
 }
 
 pub fn exec(args: SweepArgs) -> Result<(), CliError> {
-    let plan = Plan::load(&args.sweep, &args.accuracy.with(&args.set))?;
+    let plan = args.grid.plan()?;
     check_outputs(&plan, &args)?;
     let jobs = workers(&plan, args.jobs);
     let options = sweep::Options {
@@ -225,7 +220,7 @@ fn duration(s: f64) -> String {
 fn check_outputs(plan: &Plan, args: &SweepArgs) -> Result<(), CliError> {
     let base = plan.base_file.as_deref().map(std::path::Path::new);
     let mut inputs = outputs::scene_inputs(base, &plan.base_scene);
-    inputs.push(Input::new(&args.sweep, "the sweep file"));
+    inputs.push(Input::new(&args.grid.sweep, "the sweep file"));
     let files = outputs::in_dir(&args.out, &wovenform::publish::SWEEP_FILES);
     wovenform::files::check_outputs(&files, &inputs).map_err(|e| CliError::bad_input(e.to_string()))
 }
