@@ -23,11 +23,6 @@ impl Contact {
         *self.plate.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// The plate's height at positions `x`, mm (`None`: no plate, or nothing under it).
-    pub fn plate_height(&self, x: &[[f64; 3]]) -> Option<f64> {
-        self.update_plate(x).map(|p| p.height)
-    }
-
     /// The holder force on each node at positions `x` (N).
     pub fn holder_force(&self, x: &[[f64; 3]]) -> Vec<f64> {
         let Some(h) = &self.holder else {
