@@ -19,6 +19,8 @@
 //! - [`findings`]: dated measurements, each with the command that reproduces it.
 //! - [`cost`]: what a finer answer costs and why, measured session by session.
 //! - [`cost_newton`]: where Newton's iterations go, read from `run --newton-trace`.
+//! - [`cost_steps`]: what a load step costs: the toe, its start, the stabilisation's fade, the
+//!   drape predictor, the symmetry planes.
 //! - [`threads`]: two threads on one design: the factorization split over two halves.
 
 #[doc = include_str!("architecture.md")]
@@ -65,6 +67,9 @@ pub mod threads {}
 
 #[doc = include_str!("cost_newton.md")]
 pub mod cost_newton {}
+
+#[doc = include_str!("cost_steps.md")]
+pub mod cost_steps {}
 
 #[cfg(test)]
 mod layers;

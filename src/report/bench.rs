@@ -5,14 +5,14 @@ use std::fmt::Write as _;
 use crate::study::bench::{BoxRun, Measured, Scaling};
 use crate::study::scaling::Timed;
 
-/// The targets the ratios are judged against (issue 26): bare factorizations of the open box
+/// The targets the ratios are judged against: bare factorizations of the open box
 /// at standard, fine over standard wall time, the ladder's exponent, the long bias specimen
 /// over the short one.
 pub const TARGET_OPEN_BOX_FACTORIZATIONS: f64 = 190.0;
 pub const TARGET_FINE_OVER_STANDARD: f64 = 6.0;
 pub const TARGET_DOF_EXPONENT: f64 = 1.25;
 pub const TARGET_BIAS_LONG_OVER_SHORT: f64 = 5.0;
-/// The open box with bending over the same box without it, whole blank, standard (issue 27).
+/// The open box with bending over the same box without it, whole blank, standard.
 pub const TARGET_BENDING_OVER_MEMBRANE: f64 = 2.0;
 
 fn bending_json([without, with]: &[Timed; 2]) -> serde_json::Value {

@@ -38,7 +38,8 @@ pub fn show_duration(s: f64) -> String {
 }
 
 fn fixed(v: Option<f64>, decimals: usize) -> String {
-    v.map(|v| format!("{v:.decimals$}")).unwrap_or_default()
+    v.map(|v| crate::show::Fixed(v, decimals).to_string())
+        .unwrap_or_default()
 }
 
 /// The whole explorer: `frame.render_widget(&app, frame.area())`.

@@ -296,14 +296,7 @@ fn a_sweep_reads_its_own_base_scene_and_the_explorer_names_its_base() {
 fn a_full_disk_leaves_no_half_file() {
     let dir = tempfile::tempdir().unwrap();
     let full = dir.path().join("full");
-    std::fs::create_dir(&full).unwrap();
-    let mounted = std::process::Command::new("mount")
-        .args(["-t", "tmpfs", "-o", "size=96k", "tmpfs"])
-        .arg(&full)
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !mounted {
-        eprintln!("not checked: this user cannot mount a small tmpfs (CI runs as root and does)");
+    if !crate::common::mount_small_tmpfs(&full, "96k") {
         return;
     }
     let open_box = preset("paper-box-open.toml");

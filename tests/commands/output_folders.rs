@@ -233,14 +233,7 @@ fn a_full_disk_stops_a_frontier_naming_the_file_and_loses_no_announced_run() {
     let d = tmp.path();
     let edge = edge_file(d);
     let full = d.join("full");
-    std::fs::create_dir(&full).unwrap();
-    let mounted = std::process::Command::new("mount")
-        .args(["-t", "tmpfs", "-o", "size=150k", "tmpfs"])
-        .arg(&full)
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !mounted {
-        eprintln!("not checked: this user cannot mount a small tmpfs (CI runs as root and does)");
+    if !crate::common::mount_small_tmpfs(&full, "150k") {
         return;
     }
     let o = wovenform_in(d, &["frontier", &edge, "--along", "r", "--out", "full/f"]);

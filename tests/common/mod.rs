@@ -159,3 +159,18 @@ pub fn off_grid_box() -> wovenform::core::drawing::DrawingProblem {
         ],
     )
 }
+
+/// Mounts a tmpfs of `size` (e.g. `"96k"`) on the new folder `dir`, for a full disk; `false`
+/// where this user cannot mount (CI runs as root and can), after saying the check is skipped.
+pub fn mount_small_tmpfs(dir: &Path, size: &str) -> bool {
+    std::fs::create_dir(dir).unwrap();
+    let mounted = std::process::Command::new("mount")
+        .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+        .arg(dir)
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !mounted {
+        eprintln!("not checked: this user cannot mount a small tmpfs (CI runs as root and does)");
+    }
+    mounted
+}
