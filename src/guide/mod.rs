@@ -16,12 +16,10 @@
 //! - [`accuracy`]: accuracy levels, error bands, MARGINAL, `converge` and `bench`.
 //! - [`theory`]: the model — the woven-cell law, the membrane element, contact, the solver.
 //! - [`verification`]: the checks with answers from outside the code.
-//! - [`findings`]: dated measurements, each with the command that reproduces it.
-//! - [`cost`]: what a finer answer costs and why, measured session by session.
-//! - [`cost_newton`]: where Newton's iterations go, read from `run --newton-trace`.
-//! - [`cost_steps`]: what a load step costs: the toe, its start, the stabilisation's fade, the
-//!   drape predictor, the symmetry planes.
-//! - [`threads`]: two threads on one design: the factorization split over two halves.
+//! - [`findings`]: what each preset gives and what each level costs, dated, each with the
+//!   command that reproduces it.
+//! - [`solver`]: the solver's design: each mechanism, what it does, why, and what it bought.
+//! - [`solver_rejected`]: the solver's variants that were measured and rejected, and why.
 
 #[doc = include_str!("architecture.md")]
 pub mod architecture {}
@@ -59,20 +57,17 @@ pub mod verification {}
 #[doc = include_str!("findings.md")]
 pub mod findings {}
 
-#[doc = include_str!("cost.md")]
-pub mod cost {}
+#[doc = include_str!("solver.md")]
+pub mod solver {}
 
-#[doc = include_str!("threads.md")]
-pub mod threads {}
-
-#[doc = include_str!("cost_newton.md")]
-pub mod cost_newton {}
-
-#[doc = include_str!("cost_steps.md")]
-pub mod cost_steps {}
+#[doc = include_str!("solver_rejected.md")]
+pub mod solver_rejected {}
 
 #[cfg(test)]
 mod layers;
+
+#[cfg(test)]
+mod lint;
 
 #[cfg(test)]
 mod tests {
