@@ -64,6 +64,13 @@ impl ErrorEstimate {
     }
 }
 
+/// A level's name that is none of the levels (as given, trimmed).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{text:?}: expected coarse, standard or fine")]
+pub struct UnknownAccuracy {
+    pub text: String,
+}
+
 impl Accuracy {
     pub const ALL: [Accuracy; 3] = [Accuracy::Coarse, Accuracy::Standard, Accuracy::Fine];
 
@@ -76,12 +83,14 @@ impl Accuracy {
     }
 
     /// Reads a level's name; the error lists the names.
-    pub fn parse(text: &str) -> Result<Accuracy, String> {
+    pub fn parse(text: &str) -> Result<Accuracy, UnknownAccuracy> {
         let t = text.trim();
         Accuracy::ALL
             .into_iter()
             .find(|a| a.name().eq_ignore_ascii_case(t))
-            .ok_or_else(|| format!("{t:?}: expected coarse, standard or fine"))
+            .ok_or_else(|| UnknownAccuracy {
+                text: t.to_string(),
+            })
     }
 
     /// Element size of the blank mesh, mm.
@@ -181,6 +190,7 @@ mod tests {
         assert!(
             Accuracy::parse("medium")
                 .unwrap_err()
+                .to_string()
                 .contains("coarse, standard or fine")
         );
         let e: Vec<f64> = Accuracy::ALL

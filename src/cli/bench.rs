@@ -55,7 +55,7 @@ pub fn exec(args: BenchArgs) -> Result<(), CliError> {
             eprintln!("measuring {what} …");
         }
     };
-    let measured = b::measure_all(&options, &note).map_err(CliError::failed)?;
+    let measured = b::measure_all(&options, &note).map_err(|e| CliError::failed(e.to_string()))?;
     if args.json {
         println!("{}", measured.to_json());
     } else {

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::CliError;
-use wovenform::accuracy::Accuracy;
+use wovenform::accuracy::{Accuracy, UnknownAccuracy};
 use wovenform::scene::{Override, Scene};
 
 /// `--set KEY=VALUE`, repeatable.
@@ -127,6 +127,6 @@ fn load(file: Option<&Path>, set: &[String]) -> Result<Scene, CliError> {
 }
 
 /// Parses `--accuracy LEVEL`.
-pub fn parse_accuracy(text: &str) -> Result<Accuracy, String> {
+pub fn parse_accuracy(text: &str) -> Result<Accuracy, UnknownAccuracy> {
     Accuracy::parse(text)
 }

@@ -27,7 +27,7 @@ pub struct ToolsArgs {
 pub fn exec(args: ToolsArgs) -> Result<(), CliError> {
     let file = &args.scene.scene;
     let scene = args.scene.load()?;
-    check_spacing(&scene, args.spacing).map_err(CliError::bad_input)?;
+    check_spacing(&scene, args.spacing).map_err(|e| CliError::bad_input(e.to_string()))?;
     let files = outputs::in_dir(&args.out, &["punch.stl", "die.stl"]);
     let inputs = outputs::scene_inputs(Some(file), &scene);
     outputs::prepare(&args.out, &files, &inputs)?;

@@ -155,30 +155,20 @@ pub fn shear_map(problem: &BiasProblem, result: &BiasResult, locking_angle_deg: 
         c
     });
     let reached = result.displacement_mm.last().copied().unwrap_or(0.0);
+    let title = format!(
+        "Bias extension {} × {} mm: shear at {reached:.1} mm of pull (centre {})",
+        problem.length,
+        problem.width,
+        Unit::Degrees.show(result.shear_centre_deg.last().copied().unwrap_or(0.0))
+    );
+    let subtitle = format!(
+        "|change of the angle between the yarns| in each element, final positions; ideal centre {}",
+        Unit::Degrees.show(ideal_shear(problem.length, problem.width, reached).to_degrees())
+    );
     FieldMap {
-        title: format!(
-            "Bias extension {} × {} mm: shear at {reached:.1} mm of pull (centre {})",
-            problem.length,
-            problem.width,
-            Unit::Degrees.show(result.shear_centre_deg.last().copied().unwrap_or(0.0))
-        ),
-        subtitle: format!(
-            "|change of the angle between the yarns| in each element, final positions; ideal centre {}",
-            Unit::Degrees.show(ideal_shear(problem.length, problem.width, reached).to_degrees())
-        ),
-        design: String::new(),
-        fit_to_field: false,
-        quads,
-        values,
-        limit: locking_angle_deg,
-        limit_name: "locking angle".into(),
-        bar_caption: "shear (°)".into(),
-        unit: Unit::Degrees,
         max_at: centre,
         peak: Some(max),
-        outlines: Vec::new(),
         size: (1100, 700),
-        scale_max: None,
-        view: None,
+        ..FieldMap::shear(title, subtitle, quads, values, locking_angle_deg)
     }
 }

@@ -36,7 +36,7 @@ pub fn csv(stats: &SolveStats, stroke_mm: f64) -> String {
     w.write_record(COLUMNS).expect("writing to memory");
     let mut step = 1;
     for (s, residuals) in stats.residuals.iter().enumerate() {
-        let accepted = stats.step_accepted.get(s).copied().unwrap_or(true);
+        let accepted = stats.accepted(s);
         let load = stats.step_loads.get(s).copied().unwrap_or(f64::NAN);
         for k in 0..residuals.len() {
             let mut row = vec![
@@ -107,7 +107,7 @@ pub fn chart(stats: &SolveStats, title: &str) -> LineChart {
         // next step starts from.
         let corrections = stats.alphas.get(s).map(Vec::len);
         count += corrections.unwrap_or(residuals.len().saturating_sub(1));
-        if stats.step_accepted.get(s).copied().unwrap_or(true) {
+        if stats.accepted(s) {
             chart.push(Series::line("", line, Colour::GREY));
         } else {
             // An attempt cut back: dashed, named in the legend once.

@@ -184,12 +184,12 @@ impl Scene {
         p.yarn_angle_deg = self.fabric.yarn_angle_deg;
         p.bending = self.bending();
         p.tooling = self.tools.tooling();
-        p.blank = self.blank.size.0;
+        p.blank_mm = self.blank.size.0;
         p.friction = self.process.friction;
-        p.holder_pressure = self.process.holder_pressure;
+        p.holder_pressure_mpa = self.process.holder_pressure;
         p.holder_force_n = self.process.holder_force.map(|kn| 1000.0 * kn);
-        p.stroke = self.process.stroke;
-        p.element_size = self.mesh.element_size;
+        p.stroke_mm = self.process.stroke;
+        p.element_size_mm = self.mesh.element_size;
         p.symmetry = match self.mesh.symmetry {
             SymmetryChoice::Auto => Symmetry::Auto,
             SymmetryChoice::Full => Symmetry::Full,
@@ -292,11 +292,13 @@ mod tests {
                 |p| matches!(p.tooling, Tooling::Box { clearance, .. } if clearance == 0.0),
             ),
             ("process.friction=0.1", |p| p.friction == 0.1),
-            ("process.holder_pressure=0", |p| p.holder_pressure == 0.0),
-            ("process.stroke=12.5", |p| p.stroke == 12.5),
-            ("mesh.element_size=5", |p| p.element_size == 5.0),
+            ("process.holder_pressure=0", |p| {
+                p.holder_pressure_mpa == 0.0
+            }),
+            ("process.stroke=12.5", |p| p.stroke_mm == 12.5),
+            ("mesh.element_size=5", |p| p.element_size_mm == 5.0),
             ("mesh.symmetry=\"full\"", |p| p.symmetry == Symmetry::Full),
-            ("blank.size=[150,120]", |p| p.blank == [150.0, 120.0]),
+            ("blank.size=[150,120]", |p| p.blank_mm == [150.0, 120.0]),
             ("numerics.stabilisation=0", |p| {
                 p.solver.stabilisation == 0.0
             }),
@@ -364,16 +366,16 @@ mod tests {
             (
                 got.fabric,
                 got.tooling,
-                got.blank,
+                got.blank_mm,
                 got.friction,
-                got.holder_pressure
+                got.holder_pressure_mpa
             ),
             (
                 want.fabric,
                 want.tooling,
-                want.blank,
+                want.blank_mm,
                 want.friction,
-                want.holder_pressure
+                want.holder_pressure_mpa
             )
         );
         assert_eq!(open.fabric.locking_angle_deg, 60.0);

@@ -105,7 +105,7 @@ fn excerpt_long(text: &str) -> String {
     }
 }
 
-/// Who set the keys: the last override that [`touches`] any of them, else `origin` (the file,
+/// Who set the keys: the last override that `touches` any of them, else `origin` (the file,
 /// or [`super::DEFAULT_ORIGIN`]). Shown as `--set KEY=VALUE`.
 pub fn blame(overrides: &[Override], origin: &str, keys: &[&str]) -> String {
     overrides

@@ -396,9 +396,9 @@ impl Default for Process {
         let p = default_problem();
         Process {
             friction: p.friction,
-            holder_pressure: p.holder_pressure,
+            holder_pressure: p.holder_pressure_mpa,
             holder_force: None,
-            stroke: p.stroke,
+            stroke: p.stroke_mm,
         }
     }
 }
@@ -438,7 +438,7 @@ pub struct MeshSettings {
 impl Default for MeshSettings {
     fn default() -> Self {
         MeshSettings {
-            element_size: default_problem().element_size,
+            element_size: default_problem().element_size_mm,
             symmetry: SymmetryChoice::Auto,
         }
     }
@@ -455,7 +455,7 @@ pub struct Blank {
 impl Default for Blank {
     fn default() -> Self {
         Blank {
-            size: PlanPair(default_problem().blank),
+            size: PlanPair(default_problem().blank_mm),
         }
     }
 }

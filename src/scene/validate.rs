@@ -452,7 +452,7 @@ impl Scene {
         }
         let budget = crate::machine::memory_budget_bytes();
         crate::machine::check_fits(&self.to_problem(), budget)
-            .map_err(|detail| broken_with(&["mesh.element_size", "blank.size"], detail))
+            .map_err(|e| broken_with(&["mesh.element_size", "blank.size"], e.to_string()))
     }
 
     fn check_numerics(&self) -> Result<(), Broken> {

@@ -5,10 +5,45 @@ use std::time::Instant;
 
 use super::timing::{median, preset};
 use crate::accuracy::Accuracy;
+use crate::core::drawing::DrawingFailure;
 use crate::core::fabric::law::{CellLaw, CellParams};
 use crate::core::membrane::element::{self, ElementGeometry, ElementOutput, GAUSS};
+use crate::core::solver::Failure;
 use crate::presets::{PAPER_BOX_OPEN, PAPER_BOX_TIGHT};
+use crate::study::sweep::SweepError;
 use crate::study::sweep::embedded::explorer_sweep;
+
+/// Why a measurement could not be taken: the drawing (or the sweep) that failed, and why.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// The drawing cannot be set up (it has no unique shape).
+    #[error("{0}")]
+    Unprepared(DrawingFailure),
+    /// The drawing stopped short of the full stroke.
+    #[error("{0}")]
+    Stopped(Failure),
+    /// One of the timed drawings failed: its name, and why.
+    #[error("{case}: {why}")]
+    Case {
+        case: &'static str,
+        why: Box<BenchError>,
+    },
+    /// The explorer's default sweep makes no plan.
+    #[error("{0}")]
+    SweepPlan(SweepError),
+    #[error("cannot make a temporary folder: {0}")]
+    TempFolder(std::io::Error),
+    /// The sweep stopped while running.
+    #[error("{0}")]
+    Sweep(SweepError),
+}
+
+impl serde::Serialize for BenchError {
+    /// As its message (`bench --json`'s `failure`).
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
 
 /// One measured rate.
 #[derive(Clone, Debug)]
@@ -93,7 +128,7 @@ pub fn element_rate(repetitions: usize) -> Rate {
 /// The paper's open box (the preset) at an element size, as a problem on one thread.
 pub fn paper_box(element_size_mm: f64) -> crate::core::drawing::DrawingProblem {
     let mut p = preset(PAPER_BOX_OPEN, "presets/paper-box-open.toml", &[]);
-    p.element_size = element_size_mm;
+    p.element_size_mm = element_size_mm;
     p
 }
 
@@ -185,9 +220,10 @@ pub struct Measured {
     /// Designs per minute with one and with two jobs.
     pub sweep_per_min: [f64; 2],
     /// How friction is resolved in a step (empty unless asked for).
-    pub friction: Vec<(String, Result<BoxRun, String>)>,
+    pub friction: Vec<(String, Result<BoxRun, BenchError>)>,
     /// STL tools against analytic ones (empty unless asked for).
-    pub mesh: Vec<Result<crate::study::mesh_bench::MeshRun, String>>,
+    pub mesh:
+        Vec<Result<crate::study::mesh_bench::MeshRun, crate::study::mesh_bench::MeshBenchError>>,
     /// The cost of a finer answer (unless not asked for).
     pub scaling: Option<Scaling>,
     /// The open box, whole blank, at standard without and with bending (unless not asked for).
@@ -199,7 +235,7 @@ pub struct Measured {
 pub struct Scaling {
     pub deadline_s: f64,
     pub designs: Vec<crate::study::scaling::FineOverStandard>,
-    pub bias: Result<[crate::study::scaling::Timed; 2], String>,
+    pub bias: Result<[crate::study::scaling::Timed; 2], crate::study::scaling::BiasPairError>,
     /// The open box at fine: one thread, the assembly on the pool's threads, the assembly and
     /// the factorization on them (and how many there are).
     pub open_fine: [crate::study::scaling::Timed; 3],
@@ -208,7 +244,7 @@ pub struct Scaling {
 
 /// Measures everything `o` asks for; `note(what)` hears each measurement start. An error names
 /// the drawing (or the sweep) that failed.
-pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, String> {
+pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, BenchError> {
     let reps = o.repetitions;
     note("the law and the element");
     let rates = [law_rate(reps), element_rate(reps)];
@@ -216,7 +252,12 @@ pub fn measure_all(o: &BenchOptions, note: &dyn Fn(&str)) -> Result<Measured, St
     let mut runs = Vec::new();
     for (name, problem) in cases() {
         note(&format!("the {name} at standard accuracy"));
-        runs.push(drawing_run(&problem, box_reps).map_err(|e| format!("{name}: {e}"))?);
+        runs.push(
+            drawing_run(&problem, box_reps).map_err(|why| BenchError::Case {
+                case: name,
+                why: Box::new(why),
+            })?,
+        );
     }
     let [open, tight, open_low_friction] = <[BoxRun; 3]>::try_from(runs).expect("three cases");
     let names = cases().map(|(n, _)| n);
@@ -378,20 +419,20 @@ fn median_time(repetitions: usize, mut run: impl FnMut()) -> f64 {
 pub fn drawing_run(
     p: &crate::core::drawing::DrawingProblem,
     repetitions: usize,
-) -> Result<BoxRun, String> {
+) -> Result<BoxRun, BenchError> {
     use crate::core::solver::{NodalTerms, NodeBlock, Solver};
     let mut samples = Vec::new();
     let mut bare = Vec::new();
     let mut last = None;
     for _ in 0..repetitions.max(1) {
-        let mut prepared = p.prepare().map_err(|e| e.to_string())?;
+        let mut prepared = p.prepare().map_err(BenchError::Unprepared)?;
         let t = Instant::now();
         let mut solver = Solver::new(&mut prepared.model, p.solver.clone());
         let outcome = solver.solve(&prepared.prescribed, &mut prepared.contact, &mut |_| {
             std::ops::ControlFlow::Continue(())
         });
         samples.push(t.elapsed().as_secs_f64());
-        outcome.map_err(|f| f.to_string())?;
+        outcome.map_err(BenchError::Stopped)?;
         let stats = solver.stats.clone();
         solver.assemble_tangent(1.0, &prepared.contact);
         let n = solver.model.free_dofs();
@@ -445,7 +486,7 @@ const BARE_REPETITIONS: usize = 9;
 /// symmetric part of the Jacobian only, lagged to the step's start, and lagged with the step
 /// solved again from its converged state `passes` times. Each: the name and its run (or why
 /// it failed).
-pub fn friction_resolution(repetitions: usize) -> Vec<(String, Result<BoxRun, String>)> {
+pub fn friction_resolution(repetitions: usize) -> Vec<(String, Result<BoxRun, BenchError>)> {
     let base = paper_box(2.5);
     let mut variants: Vec<(String, crate::core::drawing::DrawingProblem)> = Vec::new();
     variants.push(("implicit, exact Jacobian (GMRES)".into(), base.clone()));
@@ -501,17 +542,17 @@ pub fn dof_scaling<const N: usize>(
 /// Designs per minute of the explorer's default grid (`presets/paper-box-explorer.toml`: the
 /// paper's tight and open radii, 8 designs) at `coarse` accuracy with `jobs` workers, written
 /// into a temporary folder.
-pub fn sweep_throughput(jobs: usize) -> Result<f64, String> {
-    let plan = explorer_sweep(&Accuracy::Coarse.overrides()).map_err(|e| e.to_string())?;
+pub fn sweep_throughput(jobs: usize) -> Result<f64, BenchError> {
+    let plan = explorer_sweep(&Accuracy::Coarse.overrides()).map_err(BenchError::SweepPlan)?;
     let dir = tempfile::Builder::new()
         .prefix("wovenform-bench-")
         .tempdir()
-        .map_err(|e| format!("cannot make a temporary folder: {e}"))?;
+        .map_err(BenchError::TempFolder)?;
     let options = crate::study::sweep::Options {
         jobs: Some(jobs),
         ..Default::default()
     };
     let outcome = crate::study::sweep::run(&plan, dir.path(), &options, &|_| {})
-        .map_err(|e| e.to_string())?;
+        .map_err(BenchError::Sweep)?;
     Ok(outcome.ran as f64 / outcome.run_wall_s * 60.0)
 }

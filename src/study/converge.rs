@@ -246,7 +246,7 @@ fn solve_rung(problem: &DrawingProblem, ladder: &'static str) -> Rung {
     let max_tension = r.max_tension_n();
     Rung {
         ladder,
-        element_size_mm: problem.element_size,
+        element_size_mm: problem.element_size_mm,
         max_step: problem.solver.max_step,
         dofs: r.dofs,
         steps: r.stats.steps,
@@ -304,7 +304,7 @@ pub fn mesh_ladder(scene: &Scene, sizes_mm: &[f64], progress: &mut dyn FnMut(&Ru
         .map(|&h| {
             let mut p = scene.to_problem();
             p.solver.parallel = false;
-            p.element_size = h;
+            p.element_size_mm = h;
             let r = solve_rung(&p, "mesh");
             progress(&r);
             r

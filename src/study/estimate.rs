@@ -29,8 +29,8 @@ const REFERENCE_WORK_S: f64 = 0.0085;
 pub fn run_seconds(scene: &Scene) -> f64 {
     let p = scene.to_problem();
     let parts = if p.quarter_applies() { 4.0 } else { 1.0 };
-    let elements = p.blank[0] * p.blank[1] / (p.element_size * p.element_size) / parts;
-    let reference = REFERENCE_RUN_S * (elements / 1156.0).powf(1.4) * (p.stroke / 28.0).max(0.1);
+    let elements = p.blank_mm[0] * p.blank_mm[1] / (p.element_size_mm * p.element_size_mm) / parts;
+    let reference = REFERENCE_RUN_S * (elements / 1156.0).powf(1.4) * (p.stroke_mm / 28.0).max(0.1);
     let bending = if p.bending.is_some() {
         BENDING_COST
     } else {

@@ -11,7 +11,9 @@ use std::time::Instant;
 
 use super::timing::preset;
 use crate::accuracy::Accuracy;
+use crate::core::specimens::bias::BiasError;
 use crate::presets::PAPER_BOX_OPEN;
+use crate::scene::SceneError;
 
 /// The designs of the paper's grid (beyond the presets) whose fine runs are timed: corner,
 /// nose and die radii (mm), friction and holder pressure (MPa) as overrides.
@@ -139,7 +141,7 @@ pub fn fine_over_standard(
             note(name);
             let at = |level: Accuracy| {
                 let mut p = preset(PAPER_BOX_OPEN, "presets/paper-box-open.toml", overrides);
-                p.element_size = level.element_size_mm();
+                p.element_size_mm = level.element_size_mm();
                 timed_drawing(&p, deadline_s)
             };
             let at = |level: Accuracy| Ok::<_, std::convert::Infallible>(at(level));
@@ -157,6 +159,27 @@ pub fn fine_over_standard(
         .collect()
 }
 
+/// Why the bias-extension pair could not be timed.
+#[derive(Debug, thiserror::Error)]
+pub enum BiasPairError {
+    /// `presets/box-with-shear.toml` is refused.
+    #[error("{0}")]
+    Scene(SceneError),
+    /// A specimen's size is refused.
+    #[error("{0}")]
+    Specimen(SceneError),
+    /// A specimen's test has no answer.
+    #[error("{0}")]
+    Test(BiasError),
+}
+
+impl serde::Serialize for BiasPairError {
+    /// As its message (`bench --json`'s `failure`).
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
 /// The two bias-extension specimens: length × width (mm) and grip displacement (mm).
 pub const BIAS_SPECIMENS: [[f64; 3]; 2] = [[300.0, 150.0, 55.0], [450.0, 150.0, 105.0]];
 
@@ -164,25 +187,25 @@ pub const BIAS_SPECIMENS: [[f64; 3]; 2] = [[300.0, 150.0, 55.0], [450.0, 150.0, 
 /// shear law) on the short and the long specimen of [`BIAS_SPECIMENS`], 5 mm elements, 40
 /// points, one thread, each stopped after `deadline_s`, each the median of `repetitions`
 /// interleaved runs.
-pub fn bias_pair(deadline_s: f64, repetitions: usize) -> Result<[Timed; 2], String> {
+pub fn bias_pair(deadline_s: f64, repetitions: usize) -> Result<[Timed; 2], BiasPairError> {
     let scene = crate::scene::Scene::from_toml_str(
         crate::presets::BOX_WITH_SHEAR,
         "presets/box-with-shear.toml",
         &[],
     )
-    .map_err(|e| e.to_string())?;
+    .map_err(BiasPairError::Scene)?;
     let problem = |size: [f64; 3]| {
         let mut p = crate::scene::specimen::bias_problem(&scene, size, 5.0, 40)
-            .map_err(|e| e.to_string())?;
+            .map_err(BiasPairError::Specimen)?;
         p.solver.parallel = false;
-        Ok::<_, String>(p)
+        Ok::<_, BiasPairError>(p)
     };
     let [short, long] = [problem(BIAS_SPECIMENS[0])?, problem(BIAS_SPECIMENS[1])?];
     let run = |problem: &crate::core::specimens::bias::BiasProblem| {
         let start = Instant::now();
         let r = problem
             .solve_until(&mut |_| until(start, deadline_s))
-            .map_err(|e| e.to_string())?;
+            .map_err(BiasPairError::Test)?;
         Ok(Timed {
             wall_s: start.elapsed().as_secs_f64(),
             dofs: 2 * r.mesh.nodes.len(),

@@ -22,37 +22,73 @@ pub struct ToolSurfaces {
     pub wall_s: f64,
 }
 
+/// Why a tessellation's spacing is refused, with the spacing asked for (mm) and the bound it
+/// crosses.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SpacingError {
+    #[error("--spacing {spacing_mm}: expected a positive length in mm")]
+    NotPositive { spacing_mm: f64 },
+    #[error(
+        "--spacing {spacing_mm} mm is coarser than the tools' smallest radius \
+         ({smallest_radius_mm} mm): expected at most {smallest_radius_mm} mm"
+    )]
+    CoarserThanTools {
+        spacing_mm: f64,
+        smallest_radius_mm: f64,
+    },
+    #[error(
+        "--spacing {spacing_mm} mm needs {points:.3e} grid points ({:.1} GB), over this \
+         machine's {:.1} GB: expected --spacing ≥ {fits_from_mm:.3} mm",
+        bytes / 1e9,
+        budget_bytes / 1e9
+    )]
+    GridTooLarge {
+        spacing_mm: f64,
+        points: f64,
+        /// The grid's memory and what this machine allows, bytes.
+        bytes: f64,
+        budget_bytes: f64,
+        /// The finest spacing whose grid fits.
+        fits_from_mm: f64,
+    },
+}
+
 /// Refuses a spacing that is not a positive length, that is coarser than the tools' smallest
 /// radius (the shape would be lost), or whose grid does not fit in memory. Tools from STL are
 /// written as read: no spacing applies.
-pub fn check_spacing(scene: &Scene, spacing: f64) -> Result<(), String> {
+pub fn check_spacing(scene: &Scene, spacing: f64) -> Result<(), SpacingError> {
     if scene.tools.kind == ToolKind::Mesh {
         return Ok(());
     }
     if !(spacing.is_finite() && spacing > 0.0) {
-        return Err(format!(
-            "--spacing {spacing}: expected a positive length in mm"
-        ));
+        return Err(SpacingError::NotPositive {
+            spacing_mm: spacing,
+        });
     }
     let smallest_radius = scene.tools.smallest_radius_mm();
     if spacing > smallest_radius {
-        return Err(format!(
-            "--spacing {spacing} mm is coarser than the tools' smallest radius \
-             ({smallest_radius} mm): expected at most {smallest_radius} mm"
-        ));
+        return Err(SpacingError::CoarserThanTools {
+            spacing_mm: spacing,
+            smallest_radius_mm: smallest_radius,
+        });
     }
     let problem = scene.to_problem();
-    let points = grid_points(&problem.tooling, problem.blank, problem.stroke, spacing);
+    let points = grid_points(
+        &problem.tooling,
+        problem.blank_mm,
+        problem.stroke_mm,
+        spacing,
+    );
     let (bytes, budget) = (BYTES_PER_GRID_POINT * points, memory_budget_bytes());
     if bytes > budget {
         // The grid's points fall as 1/spacing³.
-        let fits = spacing * (bytes / budget).cbrt() * 1.01;
-        return Err(format!(
-            "--spacing {spacing} mm needs {points:.3e} grid points ({:.1} GB), over this \
-             machine's {:.1} GB: expected --spacing ≥ {fits:.3} mm",
-            bytes / 1e9,
-            budget / 1e9
-        ));
+        return Err(SpacingError::GridTooLarge {
+            spacing_mm: spacing,
+            points,
+            bytes,
+            budget_bytes: budget,
+            fits_from_mm: spacing * (bytes / budget).cbrt() * 1.01,
+        });
     }
     Ok(())
 }
@@ -69,7 +105,12 @@ pub fn tessellate(scene: &Scene, spacing: f64) -> ToolSurfaces {
         };
     }
     let start = std::time::Instant::now();
-    let (punch, die) = tool_surfaces(&problem.tooling, problem.blank, problem.stroke, spacing);
+    let (punch, die) = tool_surfaces(
+        &problem.tooling,
+        problem.blank_mm,
+        problem.stroke_mm,
+        spacing,
+    );
     ToolSurfaces {
         tools: [("punch", punch), ("die", die)],
         read_from: None,

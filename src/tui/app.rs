@@ -304,21 +304,9 @@ impl App {
         self.focus
     }
 
-    /// Moves the keys to the results or to the parameters.
-    pub fn set_focus(&mut self, focus: Focus) {
-        self.focus = focus;
-    }
-
     /// The selected parameter line.
     pub fn cursor(&self) -> usize {
         self.cursor
-    }
-
-    /// Selects parameter line `line` (clamped to the lines there are) and moves the keys to
-    /// the parameters.
-    pub fn select_parameter(&mut self, line: usize) {
-        self.focus = Focus::Parameters;
-        self.cursor = line.min(self.params.fields.len().saturating_sub(1));
     }
 
     pub fn mode(&self) -> &Mode {
@@ -337,10 +325,6 @@ impl App {
     /// The line for the user (the export's path, an error), fresh or not.
     pub fn status(&self) -> &str {
         &self.status
-    }
-
-    pub fn set_status(&mut self, status: impl Into<String>) {
-        self.status = status.into();
     }
 
     /// Seconds since the explorer opened (the event loop sets it on every tick).

@@ -11,7 +11,7 @@ use ratatui::symbols::Marker;
 use ratatui::text::Line;
 use ratatui::widgets::{Axis, Block, Chart, Dataset, GraphType, Paragraph, Widget};
 
-use super::app::{App, Command, Entry, FrontierView, entries_of};
+use super::app::{App, Command, Entry, FrontierView};
 use super::style::Styles;
 use super::worker::Message;
 use crate::report::frontier::{boundary_words, found_words};
@@ -80,22 +80,9 @@ impl App {
             self.entries = super::runs::carry_rows(&self.entries, &plan);
             self.run_dir.clone().expect("checked")
         } else {
-            self.runs += 1;
-            self.entries = entries_of(&plan);
-            self.fields.clear();
-            self.selected = 0;
-            self.session.join(format!("run-{}", self.runs))
+            self.new_run_folder(&plan)
         };
-        self.table_plan = plan.clone();
-        self.run_base_hash = plan.base_hash.clone();
-        self.run_dir = Some(dir.clone());
-        self.active_dir = Some(dir.clone());
-        self.active_accuracy =
-            crate::accuracy::Accuracy::of_element_size(plan.base_scene.mesh.element_size);
-        self.run = super::app::RunState::Running;
-        self.to_run = 2 * lattice.combos.len();
-        self.done = 0;
-        self.run_started_s = self.now_s;
+        self.begin_grid_run(&plan, &dir, 2 * lattice.combos.len());
         self.status = format!("finding the boundary along {column}");
         Command::Frontier {
             lattice: Box::new(lattice),

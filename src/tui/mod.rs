@@ -130,7 +130,7 @@ fn event_loop(
     let (tx, rx) = mpsc::channel();
     let mut stop: Option<Arc<AtomicBool>> = None;
     loop {
-        app.now_s = opened.elapsed().as_secs_f64();
+        app.set_now(opened.elapsed().as_secs_f64());
         app.note_status_time();
         while let Ok(m) = rx.try_recv() {
             app.on_message(m);
@@ -225,4 +225,27 @@ pub fn prune_sessions(temp: &std::path::Path, days: u64) -> usize {
         })
         .filter(|e| std::fs::remove_dir_all(e.path()).is_ok())
         .count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::params::default_source;
+    use super::*;
+
+    /// What the loop does on every tick (the clock, then the status's time noted) and what the
+    /// status line shows.
+    #[test]
+    fn a_status_message_fades_and_a_new_one_shows_at_once() {
+        let params = Parameters::new(default_source()).unwrap();
+        let mut app = App::new(params, "/session".into(), false);
+        app.status = "exported to /tmp/x".into();
+        assert_eq!(app.fresh_status(), Some("exported to /tmp/x"));
+        app.note_status_time();
+        app.set_now(5.0);
+        assert!(app.fresh_status().is_some(), "still news after 5 s");
+        app.set_now(30.0);
+        assert_eq!(app.fresh_status(), None, "stale after 30 s");
+        app.status = "cancelling…".into();
+        assert_eq!(app.fresh_status(), Some("cancelling…"));
+    }
 }

@@ -340,7 +340,9 @@ impl Parameters {
             return Err(ParamError::Text("no such parameter".into()));
         };
         match &field.target {
-            Target::Accuracy => Accuracy::parse(text).map(|_| ()).map_err(ParamError::Text),
+            Target::Accuracy => Accuracy::parse(text)
+                .map(|_| ())
+                .map_err(|e| ParamError::Text(e.to_string())),
             Target::LockingAngle => {
                 let v = limit_value(text, "the locking angle in degrees, e.g. 60")?;
                 self.check_value(LOCKING_KEY, &toml::Value::Float(v))
@@ -388,7 +390,8 @@ impl Parameters {
         let field = &mut self.fields[index];
         match field.target {
             Target::Accuracy => {
-                self.accuracy = Accuracy::parse(text).map_err(ParamError::Text)?;
+                self.accuracy =
+                    Accuracy::parse(text).map_err(|e| ParamError::Text(e.to_string()))?;
                 field.text = self.accuracy.name().into();
             }
             Target::LockingAngle => {

@@ -2,9 +2,11 @@
 //! designs again one level finer.
 
 use std::collections::HashSet;
+use std::path::{Path, PathBuf};
 
 use super::app::{App, Command, RunState, entries_of};
 use crate::accuracy::Accuracy;
+use crate::study::sweep::Plan;
 use crate::verdict::Verdict;
 
 impl App {
@@ -39,50 +41,63 @@ impl App {
             self.selected = 0;
             self.run_dir.clone().expect("checked")
         } else {
-            self.runs += 1;
-            self.entries = entries_of(&plan);
-            self.fields.clear();
-            self.selected = 0;
-            self.session.join(format!("run-{}", self.runs))
+            self.new_run_folder(&plan)
         };
         self.status.clear();
         self.frontier = None;
         self.begin_run(plan, dir, resume || regrid)
     }
 
-    /// The run state of a run of the table's grid that starts now, and its command.
-    fn begin_run(
-        &mut self,
-        plan: crate::study::sweep::Plan,
-        dir: std::path::PathBuf,
-        resume: bool,
-    ) -> Command {
-        self.table_plan = plan.clone();
-        self.run_base_hash = plan.base_hash.clone();
-        self.run_dir = Some(dir.clone());
-        self.begin_rerun(plan, dir, resume, None)
+    /// A new run folder of this session for `plan`'s grid, the table laid out afresh (no
+    /// rows, no fields read, the first design selected).
+    pub(super) fn new_run_folder(&mut self, plan: &Plan) -> PathBuf {
+        self.runs += 1;
+        self.entries = entries_of(plan);
+        self.fields.clear();
+        self.selected = 0;
+        self.session.join(format!("run-{}", self.runs))
     }
 
-    /// The run state of a run that starts now into `dir` (the grid's, or designs re-run
-    /// finer in a folder of their own: the table's grid and folder stay), and its command.
-    fn begin_rerun(
-        &mut self,
-        plan: crate::study::sweep::Plan,
-        dir: std::path::PathBuf,
-        resume: bool,
-        only: Option<HashSet<String>>,
-    ) -> Command {
-        self.active_dir = Some(dir.clone());
-        self.active_accuracy = Accuracy::of_element_size(plan.base_scene.mesh.element_size);
-        self.run = RunState::Running;
-        self.to_run = 0;
-        self.done = 0;
-        self.run_started_s = self.now_s;
+    /// The run state of a run of the table's grid that starts now, and its command.
+    fn begin_run(&mut self, plan: Plan, dir: PathBuf, resume: bool) -> Command {
+        self.begin_grid_run(&plan, &dir, 0);
         Command::Start {
             plan: Box::new(plan),
             dir,
             resume,
-            only,
+            only: None,
+        }
+    }
+
+    /// The table's grid and folder become `plan`'s and `dir`, where a run of its grid (or a
+    /// search on it) of `to_run` runs (0: not known yet) starts now.
+    pub(super) fn begin_grid_run(&mut self, plan: &Plan, dir: &Path, to_run: usize) {
+        self.table_plan = plan.clone();
+        self.run_base_hash = plan.base_hash.clone();
+        self.run_dir = Some(dir.to_path_buf());
+        self.begin_active_run(plan, dir, to_run);
+    }
+
+    /// The run state of a run of `to_run` runs (0: not known yet) that starts now into `dir`
+    /// (the grid's, or designs re-run finer in a folder of their own: the table's grid and
+    /// folder stay).
+    fn begin_active_run(&mut self, plan: &Plan, dir: &Path, to_run: usize) {
+        self.active_dir = Some(dir.to_path_buf());
+        self.active_accuracy = Accuracy::of_element_size(plan.base_scene.mesh.element_size);
+        self.run = RunState::Running;
+        self.to_run = to_run;
+        self.done = 0;
+        self.run_started_s = self.now_s;
+    }
+
+    /// The run state of designs re-run finer into `dir` that start now, and its command.
+    fn begin_rerun(&mut self, plan: Plan, dir: PathBuf, only: HashSet<String>) -> Command {
+        self.begin_active_run(&plan, &dir, 0);
+        Command::Start {
+            plan: Box::new(plan),
+            dir,
+            resume: false,
+            only: Some(only),
         }
     }
 
@@ -156,7 +171,7 @@ impl App {
         self.runs += 1;
         let dir = self.session.join(format!("run-{}", self.runs));
         self.status = format!("re-running {what} at {finer}");
-        self.begin_rerun(params.plan, dir, false, Some(only))
+        self.begin_rerun(params.plan, dir, only)
     }
 
     /// The accuracy level the table's plan was run at.

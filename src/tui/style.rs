@@ -77,25 +77,15 @@ mod tests {
         let e = &mut app.entries[0];
         let limits = e.limits;
         e.row = Some(Row {
-            design: e.design.id.clone(),
-            index: 0,
-            params: e.params.clone(),
             max_shear_deg: Some(limits.locking_angle_deg + shear_over_locking),
             max_tension_n: Some(limits.break_tension_n * tension_times_break),
             punch_force_n: Some(5000.0),
             max_shear_err_deg: Some(2.0),
             max_tension_err_pct: Some(10.0),
             punch_force_err_pct: Some(5.0),
-            feasible: false,
             converged: true,
             wall_s: Some(3.0),
-            map: None,
-            verdict,
-            failure: None,
-            max_wrinkle_mm: None,
-            max_wrinkle_err_mm: None,
-            steps: None,
-            newton_iterations: None,
+            ..Row::new(&e.design, e.params.clone(), verdict)
         });
         app
     }

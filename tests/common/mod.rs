@@ -20,6 +20,15 @@ impl Lcg {
     }
 }
 
+/// The recorded residual histories of a run's load steps that converged.
+pub fn accepted_residuals(
+    stats: &wovenform::core::solver::SolveStats,
+) -> impl Iterator<Item = &Vec<f64>> {
+    (stats.residuals.iter().enumerate())
+        .filter(|(s, _)| stats.accepted(*s))
+        .map(|(_, h)| h)
+}
+
 use std::path::Path;
 use std::process::{Command, Output};
 

@@ -21,16 +21,24 @@ fn verdict(app: &App, i: usize) -> String {
         .unwrap_or_default()
 }
 
-/// Edits the parameter on line `line` of the panel to `text`.
+/// Edits the parameter on line `line` of the panel to `text`, as a user does: Tab to the
+/// parameters, Home to their first line and down to `line`, Enter, the text, Enter, and Tab
+/// back to the results.
 fn edit(app: &mut App, line: usize, text: &str) {
-    app.select_parameter(line);
+    if app.focus() == Focus::Results {
+        app.on_key(key(KeyCode::Tab));
+    }
+    app.on_key(key(KeyCode::Home));
+    for _ in 0..line {
+        app.on_key(key(KeyCode::Down));
+    }
     app.on_key(key(KeyCode::Enter));
     for _ in 0..12 {
         app.on_key(key(KeyCode::Backspace));
     }
     type_text(app, text);
     app.on_key(key(KeyCode::Enter));
-    app.set_focus(Focus::Results);
+    app.on_key(key(KeyCode::Tab));
 }
 
 #[test]

@@ -432,20 +432,6 @@ fn a_new_locking_angle_judges_the_rows_again_without_running() {
 }
 
 #[test]
-fn a_status_message_fades_and_a_new_one_shows_at_once() {
-    let mut app = explorer(false);
-    app.set_status("exported to /tmp/x");
-    assert_eq!(app.fresh_status(), Some("exported to /tmp/x"));
-    app.note_status_time();
-    app.set_now(5.0);
-    assert!(app.fresh_status().is_some(), "still news after 5 s");
-    app.set_now(30.0);
-    assert_eq!(app.fresh_status(), None, "stale after 30 s");
-    app.set_status("cancelling…");
-    assert_eq!(app.fresh_status(), Some("cancelling…"));
-}
-
-#[test]
 fn exports_stay_out_of_repositories_and_old_sessions_are_pruned() {
     let dir = tempfile::tempdir().unwrap();
     // Not in a repository: the working folder.

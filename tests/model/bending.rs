@@ -1,7 +1,8 @@
 //! Bending stiffness (`core::fabric::bending`, beyond the paper) against the heavy cantilever's closed
 //! forms (`wovenform::guide::bending`): small deflection `w L⁴/(8B)`, the heavy elastica
 //! integrated here by shooting, and Peirce's 41.5° chord at an overhang of twice the bending
-//! length `c = (B/w)^{1/3}`.
+//! length `c = (B/w)^{1/3}`. (The Euler strip's buckling against its closed forms is checked
+//! beside the strip, in `core::specimens::euler_strip`.)
 
 use wovenform::core::fabric::law::CellParams;
 use wovenform::core::solver::SolverOptions;
@@ -136,94 +137,4 @@ fn the_woven_law_and_bad_sizes_are_refused_before_any_work() {
         p.solve().unwrap_err(),
         CantileverError::NotPositive { .. }
     ));
-}
-
-/// The Euler strip of this file's fabric: 100 × 10 mm, 2 mm elements, shortened by 1 mm in
-/// ten points, with yarns `fraction` of C in compression and a trigger of `sag` mm.
-fn euler(fraction: f64, sag: f64) -> wovenform::core::specimens::euler_strip::EulerStripResult {
-    let mut fabric = CellParams::PAPER_GLASS;
-    fabric.undulation = false;
-    wovenform::core::specimens::euler_strip::EulerStripProblem {
-        fabric,
-        bending_rigidity: [0.08, 0.08],
-        compression: [fraction, fraction],
-        length: 100.0,
-        width: 10.0,
-        element_size: 2.0,
-        shortening_mm: 1.0,
-        trigger_sag_mm: sag,
-        points: 10,
-        solver: SolverOptions::default(),
-    }
-    .solve()
-}
-
-#[test]
-fn the_euler_strip_stays_flat_to_the_critical_force_then_buckles_as_the_closed_form() {
-    let (b, w, l) = (0.08, 10.0, 100.0);
-    let critical = 4.0 * std::f64::consts::PI.powi(2) * b * w / (l * l);
-    // Compressive yarns of 1e-5 C (0.38 N): the membrane's end force W Cc Δ/(L0 L) reaches
-    // the critical force at Δc = 0.396 mm.
-    let cc = 1e-5 * CellParams::PAPER_GLASS.c[0];
-    let per_mm = w * cc / (CellParams::PAPER_GLASS.l0[1] * l);
-    let delta_c = critical / per_mm;
-    for sag in [0.01, 0.001] {
-        let r = euler(1e-5, sag);
-        assert!(r.failure.is_none(), "{:?}", r.failure);
-        for i in 1..r.force_n.len() {
-            let (d, f, a) = (r.shortening_mm[i], r.force_n[i], r.amplitude_mm[i]);
-            if d < 0.8 * delta_c {
-                // Flat: the membrane's force, the trigger's sag barely amplified.
-                assert!((f / (per_mm * d) - 1.0).abs() < 0.01, "Δ {d}: {f} N");
-                assert!(a.abs() < 0.1, "Δ {d}: amplitude {a} mm before buckling");
-            } else if d > 1.4 * delta_c {
-                let closed = 2.0 / std::f64::consts::PI * (l * (d - delta_c)).sqrt();
-                assert!(
-                    (f / critical - 1.0).abs() < 0.03,
-                    "Δ {d}: {f} N against {critical} N"
-                );
-                assert!(
-                    (a / closed - 1.0).abs() < 0.1,
-                    "Δ {d}: {a} mm against {closed} mm"
-                );
-            }
-        }
-    }
-}
-
-#[test]
-fn stiffer_compression_buckles_sooner_to_the_same_plateau() {
-    // 1e-2 C: Δc = 0.4 µm, so every point is past buckling.
-    let r = euler(1e-2, 0.01);
-    let critical = 4.0 * std::f64::consts::PI.powi(2) * 0.08 * 10.0 / 1e4;
-    let last = r.force_n.len() - 1;
-    assert!((r.force_n[last] / critical - 1.0).abs() < 0.03);
-    let closed = 2.0 / std::f64::consts::PI * (100.0f64 * 1.0).sqrt();
-    assert!((r.amplitude_mm[last] / closed - 1.0).abs() < 0.1);
-}
-
-/// The wrinkle figure (`core::wrinkles::amplitude`) measures the buckled strip's height from the clamps'
-/// chord: the closed form's amplitude past buckling, within 10 %, and nothing while flat.
-#[test]
-fn the_wrinkle_figure_of_the_euler_strip_is_its_amplitude() {
-    let (b, w, l) = (0.08, 10.0, 100.0);
-    let critical = 4.0 * std::f64::consts::PI.powi(2) * b * w / (l * l);
-    let cc = 1e-5 * CellParams::PAPER_GLASS.c[0];
-    let delta_c = critical / (w * cc / (CellParams::PAPER_GLASS.l0[1] * l));
-    let r = euler(1e-5, 0.001);
-    let mut checked = 0;
-    for i in 1..r.wrinkle_mm.len() {
-        let (d, wr) = (r.shortening_mm[i], r.wrinkle_mm[i]);
-        if d < 0.8 * delta_c {
-            assert!(wr < 0.05, "Δ {d}: wrinkle {wr} mm while flat");
-        } else if d > 1.4 * delta_c {
-            let closed = 2.0 / std::f64::consts::PI * (l * (d - delta_c)).sqrt();
-            assert!(
-                (wr / closed - 1.0).abs() < 0.1,
-                "Δ {d}: {wr} mm against {closed} mm"
-            );
-            checked += 1;
-        }
-    }
-    assert!(checked >= 3);
 }

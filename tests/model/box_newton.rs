@@ -1,4 +1,4 @@
-//! Newton on a box converges quadratically once its active set settles (issue 26: shown on a
+//! Newton on a box converges quadratically once its active set settles (shown on a
 //! box, not only on the capstan's strip). The open box with radii and friction off the paper's
 //! grid (7/11/8 mm, μ = 0.17) is run at standard with the equilibrium tolerance pushed to the
 //! round-off floor, so that each load step's tail is long enough to read its order; every

@@ -333,10 +333,10 @@ fn a_free_blank_needs_almost_no_punch_force_until_the_yarns_go_taut() {
     use wovenform::core::solver::{Solver, SolverOptions};
     let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
     p.fabric.undulation = false;
-    p.element_size = 5.0;
-    p.stroke = 6.0;
+    p.element_size_mm = 5.0;
+    p.stroke_mm = 6.0;
     p.friction = 0.0;
-    p.holder_pressure = 0.0;
+    p.holder_pressure_mpa = 0.0;
     let mut free = p.build().expect("the model builds");
     let mut solver = Solver::new(&mut free.model, SolverOptions::default());
     let outcome = solver.solve(&free.prescribed, &mut free.contact, &mut |_| {
@@ -353,7 +353,7 @@ fn a_free_blank_needs_almost_no_punch_force_until_the_yarns_go_taut() {
     // The same stroke with the paper's holder and friction, for scale.
     let mut held = p.clone();
     held.friction = 0.2;
-    held.holder_pressure = 1.0;
+    held.holder_pressure_mpa = 1.0;
     let held = drawing::solve(&held, &mut |_| {});
     let held_force = held.force_history.iter().map(|f| f.1).fold(0.0, f64::max);
     println!(

@@ -27,7 +27,7 @@ fn the_developed_map_is_the_flat_blank_and_its_dashed_line_the_die_edge() {
         scene: "paper-box-open",
         verdict: "",
         tooling: problem.tooling.clone(),
-        stroke_mm: problem.stroke,
+        stroke_mm: problem.stroke_mm,
         design: "",
     };
     let map = shear_developed(&result, &ctx, scene.fabric.locking_angle_deg);

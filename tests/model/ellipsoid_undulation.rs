@@ -33,7 +33,7 @@ fn ellipsoid_with_and_without_undulation() {
         "ellipsoid: largest distance between the shapes {distance:.3} mm (stroke {} mm); max shear \
          {sa:.2}° with undulation, {sb:.2}° without (difference {:.2}°); max tension {:.1} N vs {:.1} N; \
          {} and {} Newton iterations",
-        woven.stroke,
+        woven.stroke_mm,
         sa - sb,
         a.max_tension_n(),
         b.max_tension_n(),
@@ -42,7 +42,7 @@ fn ellipsoid_with_and_without_undulation() {
     );
     // "Not very large": well under the element size, and the shear within a couple of degrees.
     assert!(
-        distance < 0.5 * woven.element_size,
+        distance < 0.5 * woven.element_size_mm,
         "shapes {distance} mm apart"
     );
     assert!((sa - sb).abs() < 2.0);

@@ -103,8 +103,8 @@ fn pull_out(plate_force_n: Option<f64>) -> f64 {
 fn a_quarter_carries_a_quarter_of_the_plates_force() {
     use wovenform::core::drawing::{DrawingProblem, Symmetry, solve};
     let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
-    p.element_size = 5.0;
-    p.holder_pressure = 0.0;
+    p.element_size_mm = 5.0;
+    p.holder_pressure_mpa = 0.0;
     p.holder_force_n = Some(20_000.0);
     let quarter = solve(&p, &mut |_| {});
     p.symmetry = Symmetry::Full;

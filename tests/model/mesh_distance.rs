@@ -152,7 +152,7 @@ fn the_gradient_is_continuous_across_the_lattice_cells() {
 #[test]
 fn a_flat_face_has_its_planes_distance_and_no_curvature() {
     let p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
-    let (_, die) = tool_surfaces(&p.tooling, p.blank, p.stroke, 1.0);
+    let (_, die) = tool_surfaces(&p.tooling, p.blank_mm, p.stroke_mm, 1.0);
     let die = MeshTool::new(Role::Die, "die.stl", &die, 0.5, 1.0).unwrap();
     for (x, y) in [(60.0, 0.0), (70.0, 70.0), (-55.0, 20.0), (0.0, -80.0)] {
         for z in [-0.3, -0.01, 0.0, 0.02, 0.6] {
@@ -167,7 +167,7 @@ fn a_flat_face_has_its_planes_distance_and_no_curvature() {
 #[test]
 fn the_flange_starts_where_the_analytic_dies_entry_radius_ends() {
     let p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
-    let (_, die_surface) = tool_surfaces(&p.tooling, p.blank, p.stroke, 1.0);
+    let (_, die_surface) = tool_surfaces(&p.tooling, p.blank_mm, p.stroke_mm, 1.0);
     let mesh_die = MeshTool::new(Role::Die, "die.stl", &die_surface, 0.5, 1.0).unwrap();
     let flange = mesh_die.flange.as_ref().unwrap();
     let (_, die) = p.tooling.tools();
@@ -199,7 +199,7 @@ fn tables_kept_where_the_fabric_reaches_change_no_value_there() {
     // within 70 mm of the centre in plan and 10 mm of its face: the same distance and flange
     // where kept, the exact distance elsewhere.
     let p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
-    let (_, surface) = tool_surfaces(&p.tooling, p.blank, p.stroke, 1.0);
+    let (_, surface) = tool_surfaces(&p.tooling, p.blank_mm, p.stroke_mm, 1.0);
     let whole = MeshTool::new(Role::Die, "die.stl", &surface, 0.5, 1.0).unwrap();
     let reach = ([-70.0, -70.0, -10.0], [70.0, 70.0, 10.0]);
     let limits = Limits {

@@ -22,7 +22,7 @@ fn problem(preset: &str) -> DrawingProblem {
 
 /// The same drawing with its tools tessellated at `spacing` mm.
 fn meshed(p: &DrawingProblem, spacing: f64) -> DrawingProblem {
-    let (punch, die) = tool_surfaces(&p.tooling, p.blank, p.stroke, spacing);
+    let (punch, die) = tool_surfaces(&p.tooling, p.blank_mm, p.stroke_mm, spacing);
     let mut q = p.clone();
     q.tooling = Tooling::Mesh {
         punch: Arc::new(MeshTool::new(Role::Punch, "punch", &punch, 1.0, 1.0).unwrap()),

@@ -239,7 +239,7 @@ fn newton_converges_quadratically_on_a_stretched_and_rotated_sheet() {
         .sum::<f64>()
         .sqrt();
     let mut ratios = Vec::new();
-    for h in stats.accepted_residuals() {
+    for h in common::accepted_residuals(&stats) {
         for k in 0..h.len().saturating_sub(1) {
             let (a, b) = (h[k] / f_scale, h[k + 1] / f_scale);
             if a < 1e-4 && b > 1e-11 {

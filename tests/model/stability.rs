@@ -9,8 +9,8 @@ use wovenform::core::drawing::{self, DrawingFailure, DrawingProblem, DrawingResu
 fn base() -> DrawingProblem {
     let mut p = DrawingProblem::paper_box(10.0, 15.0, 10.0);
     p.fabric.undulation = false;
-    p.element_size = 5.0;
-    p.stroke = 10.0;
+    p.element_size_mm = 5.0;
+    p.stroke_mm = 10.0;
     p
 }
 
@@ -30,7 +30,7 @@ fn run(name: &str, p: &DrawingProblem) -> DrawingResult {
         "{name:<44} {:<10} stroke {:>5.1}/{:<4} mm  shear {:>5.1}°  tension {:>8.1} N  {:>4} steps {:>5} Newton  {:>6.2} s  {}",
         if r.converged { "converged" } else { "stopped" },
         r.stroke_reached_mm,
-        p.stroke,
+        p.stroke_mm,
         r.max_shear().1,
         r.max_tension_n(),
         r.stats.steps,
@@ -49,7 +49,7 @@ fn run(name: &str, p: &DrawingProblem) -> DrawingResult {
 fn converges(name: &str, p: &DrawingProblem) -> DrawingResult {
     let r = run(name, p);
     assert!(r.converged, "{name}: {:?}", r.failure);
-    assert!((r.stroke_reached_mm - p.stroke).abs() < 1e-9);
+    assert!((r.stroke_reached_mm - p.stroke_mm).abs() < 1e-9);
     assert!(r.unsound().is_empty(), "{name}: {:?}", r.unsound());
     r
 }
@@ -88,7 +88,7 @@ fn friction_from_0_to_1() {
 #[test]
 fn holder_pressure_from_0_to_20_mpa() {
     let mut p = base();
-    p.holder_pressure = 0.0;
+    p.holder_pressure_mpa = 0.0;
     let r = run("holder pressure 0 MPa", &p);
     assert!(matches!(
         r.failure,
@@ -96,7 +96,7 @@ fn holder_pressure_from_0_to_20_mpa() {
     ));
     for pressure in [0.01, 5.0, 20.0] {
         let mut p = base();
-        p.holder_pressure = pressure;
+        p.holder_pressure_mpa = pressure;
         converges(&format!("holder pressure {pressure} MPa"), &p);
     }
 }
@@ -113,8 +113,8 @@ fn radii_from_half_a_millimetre_to_50_mm() {
             clearance: 1.5,
         };
         if rm > 20.0 {
-            p.blank = [300.0, 300.0];
-            p.element_size = 8.0;
+            p.blank_mm = [300.0, 300.0];
+            p.element_size_mm = 8.0;
         }
         converges(&format!("radii r {r} rp {rp} rm {rm} mm"), &p);
     }
@@ -134,9 +134,9 @@ fn a_stroke_deeper_than_the_blank_can_follow() {
     // 50 mm into the die with a 120 mm blank and a 60 mm punch: the blank is pulled off the
     // flange and out from under the holder, and hangs in the die.
     let mut p = base();
-    p.blank = [120.0, 120.0];
-    p.element_size = 6.0;
-    p.stroke = 50.0;
+    p.blank_mm = [120.0, 120.0];
+    p.element_size_mm = 6.0;
+    p.stroke_mm = 50.0;
     let r = converges("stroke 50 mm, blank 120 mm", &p);
     assert!(
         r.draw_in_mm > 20.0,
@@ -149,12 +149,12 @@ fn a_stroke_deeper_than_the_blank_can_follow() {
 fn elements_much_smaller_and_much_larger_than_a_woven_cell() {
     // A cell is 4.76 mm: elements of 1 mm (on a small blank) and of 20 mm.
     let mut p = base();
-    p.element_size = 1.0;
-    p.blank = [100.0, 100.0];
-    p.stroke = 4.0;
+    p.element_size_mm = 1.0;
+    p.blank_mm = [100.0, 100.0];
+    p.stroke_mm = 4.0;
     converges("elements of 1 mm", &p);
     let mut p = base();
-    p.element_size = 20.0;
+    p.element_size_mm = 20.0;
     converges("elements of 20 mm", &p);
 }
 
@@ -162,8 +162,8 @@ fn elements_much_smaller_and_much_larger_than_a_woven_cell() {
 fn a_blank_barely_larger_than_the_die_opening() {
     // The opening is 63 mm with entry radii of 10 mm: a 90 mm blank barely reaches the flange.
     let mut p = base();
-    p.blank = [90.0, 90.0];
-    p.element_size = 3.0;
+    p.blank_mm = [90.0, 90.0];
+    p.element_size_mm = 3.0;
     converges("blank 90 mm", &p);
 }
 

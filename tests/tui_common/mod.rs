@@ -67,9 +67,6 @@ pub fn row(app: &App, index: usize, figures: (f64, f64, f64, f64)) -> Row {
     );
     let feasible = word == "FEASIBLE";
     Row {
-        design: e.design.id.clone(),
-        index,
-        params: e.params.clone(),
         max_shear_deg: Some(shear),
         max_tension_n: Some(tension),
         punch_force_n: Some(force),
@@ -80,12 +77,11 @@ pub fn row(app: &App, index: usize, figures: (f64, f64, f64, f64)) -> Row {
         converged: true,
         wall_s: Some(wall),
         map: Some(format!("maps/{}.png", e.design.id)),
-        verdict: Verdict::parse(word).expect("a verdict word"),
-        failure: None,
-        max_wrinkle_mm: None,
-        max_wrinkle_err_mm: None,
-        steps: None,
-        newton_iterations: None,
+        ..Row::new(
+            &e.design,
+            e.params.clone(),
+            Verdict::parse(word).expect("a verdict word"),
+        )
     }
 }
 

@@ -7,7 +7,7 @@
 //! on the die's radius the secant leaves the surface, the normal brings it back short, while its
 //! neighbour on the flat keeps the whole step. The yarn between them shortens; one that carried
 //! the draw-in goes slack, and the first correction, seeing the flange held by sliding friction
-//! alone, throws it outward (`guide::cost_newton`, "Session twelve"). With `keep_slide` such a
+//! alone, throws it outward (`guide::solver`, "The predictor"). With `keep_slide` such a
 //! node is moved on along the tool to the distance it slid in the secant and put back again,
 //! [`SLIDE_PASSES`] times. Not on a moving tool (the punch): there it measured worse.
 

@@ -23,7 +23,7 @@ pub(super) fn collect(
     let force_history: Vec<(f64, f64)> = contact
         .punch_history
         .iter()
-        .map(|(l, f)| (l * problem.stroke, -sym * f))
+        .map(|(l, f)| (l * problem.stroke_mm, -sym * f))
         .collect();
     let outputs = model.element_outputs();
     let mean = |a: usize| -> Vec<f64> {
@@ -48,7 +48,7 @@ pub(super) fn collect(
         converged: true,
         failure: None,
         quarter,
-        element_size_mm: problem.element_size,
+        element_size_mm: problem.element_size_mm,
         cell_mm: problem.fabric.cell_mm(),
         shear_deg: model.shear_angles_deg(),
         t11_n,
@@ -56,7 +56,7 @@ pub(super) fn collect(
         tension_max_n: model.max_tension_n(),
         contact: status,
         wrinkle_mm,
-        stroke_reached_mm: lambda * problem.stroke,
+        stroke_reached_mm: lambda * problem.stroke_mm,
         punch_force_n,
         force_history,
         penetration_mm: contact.max_penetration(lambda, &x),
@@ -145,7 +145,7 @@ pub(super) fn failed_early(
         ..DrawingResult::at_rest(
             mesh,
             quarter,
-            problem.element_size,
+            problem.element_size_mm,
             problem.fabric.cell_mm(),
         )
     }

@@ -27,13 +27,6 @@ pub enum DrawingFailure {
     BendingOffYarnLines,
 }
 
-impl DrawingFailure {
-    /// Whether the run was stopped on request (not a failure of the model or the solver).
-    pub fn is_stop(&self) -> bool {
-        matches!(self, DrawingFailure::Solver(Failure::Stopped { .. }))
-    }
-}
-
 impl std::fmt::Display for DrawingFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {

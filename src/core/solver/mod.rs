@@ -78,18 +78,18 @@ pub struct SolverOptions {
     /// leaves at most [`DECREMENT_WORK_SHARE`] of that energy as the residual's work over the
     /// step. 0 (the default): off; the drawings set [`crate::core::drawing::TOL_DECREMENT`]. It
     /// ends the tails where Newton halves a lifting node's depth in the contact's eased gap,
-    /// micrometres from its balance (`guide::cost_newton`, "Session eleven").
+    /// micrometres from its balance (`guide::solver`, "The end of a step").
     pub tol_decrement: f64,
     /// Put each node's share of a Newton correction along a tool's normal where its own
     /// balance with the penalty lies, the rest of the correction held ([`NodalTerms::reshape`],
-    /// `guide::cost_newton`, "Session twelve"): a node lifting off a tool, whose depth in the
+    /// `guide::solver`, "Contact: the eased penalty and each node's balance"): a node lifting off a tool, whose depth in the
     /// eased gap Newton's linear model halves at each correction, reaches its balance in one;
     /// one coming onto a tool is not thrown through the gap. On by default.
     pub reshape_contact: bool,
     /// Pseudo-transient stabilisation `κ` of the Newton corrections (dimensionless; 0 turns it
     /// off), fading with the square of the residual's fall in the step. 10⁻² (with the square):
     /// 4.7 % fewer iterations on the paper's 81-design grid than 10⁻⁴ with the residual's fall
-    /// itself, every figure within 0.04° (`guide::cost_newton`, "Session sixteen").
+    /// itself, every figure within 0.04° (`guide::solver`, "The stabilisation and its fade").
     pub stabilisation: f64,
     /// Solve each correction with the nodal terms' non-symmetric part (GMRES); without it the
     /// corrections use the symmetric part only and converge linearly where friction acts.
@@ -100,14 +100,14 @@ pub struct SolverOptions {
     pub project_predictor: bool,
     /// In that, a node sliding on a tool at rest keeps the distance the predictor slid it
     /// (`NodalTerms::project`): put back along the normal on the die's radius it fell short of
-    /// its neighbour on the flat, and the yarn between them went slack (`guide::cost_newton`,
-    /// "Session twelve"). On by default.
+    /// its neighbour on the flat, and the yarn between them went slack (`guide::solver`,
+    /// "The predictor"). On by default.
     pub keep_slide: bool,
     /// A step with no secant to start from (the first, or the retry after a cut) starts with
     /// the nodes the tools touched moved with their tool and the rest draped harmonically
     /// between them (`drape`); off, the start state is only projected onto the tools. On by
     /// default: the first step of each design on the paper's grid took 9 iterations instead of
-    /// 11–15 (`guide::cost_newton`, "Session seventeen").
+    /// 11–15 (`guide::solver`, "The predictor").
     pub drape_predictor: bool,
     /// Put the nodes a correction throws into a tool they did not touch onto its surface.
     pub project_trials: bool,
@@ -122,7 +122,7 @@ pub struct SolverOptions {
     /// equations are split into two halves of the blank and the line of nodes between them, each
     /// half factorized on its own thread ([`crate::core::sparse::split_cholesky`]): the open box at fine
     /// ran 1.2–1.3× faster on a 2-core machine (`bench --scaling` measures it on any machine),
-    /// to round-off the same answer (`guide::cost_newton`, "Session fifteen").
+    /// to round-off the same answer (`guide::solver`, "The factorization on one thread and on two").
     pub factor_threads: u32,
     /// Keep the residual history of each step (for convergence studies).
     pub record_residuals: bool,
@@ -212,12 +212,10 @@ pub struct SolveStats {
 }
 
 impl SolveStats {
-    /// The recorded residual histories of the load steps that converged.
-    pub fn accepted_residuals(&self) -> impl Iterator<Item = &Vec<f64>> {
-        let accepted = |s: usize| self.step_accepted.get(s).copied().unwrap_or(true);
-        (self.residuals.iter().enumerate())
-            .filter(move |(s, _)| accepted(*s))
-            .map(|(_, h)| h)
+    /// Whether recorded attempt `s` converged (one not marked in `step_accepted` counts as
+    /// converged).
+    pub fn accepted(&self, s: usize) -> bool {
+        self.step_accepted.get(s).copied().unwrap_or(true)
     }
 }
 

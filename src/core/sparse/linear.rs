@@ -139,11 +139,6 @@ impl SparseCholesky {
         self.l_values.shrink_to_fit();
     }
 
-    /// Equations on the separator of the two-thread split, if there is one.
-    pub fn split_separator(&self) -> Option<usize> {
-        self.split.as_ref().map(|s| s.separator_len())
-    }
-
     /// Equations.
     pub fn n(&self) -> usize {
         self.n
@@ -202,16 +197,6 @@ impl SparseCholesky {
             .iter()
             .map(|&s| values[s].abs())
             .fold(0.0f64, f64::max)
-    }
-
-    /// Entries the Cholesky factorization stores: the whole factor's non-zeros, or on two
-    /// threads the halves' factors and the separator's dense blocks (1.29–1.35 times as many on
-    /// the box).
-    pub fn factor_nnz(&self) -> usize {
-        match &self.split {
-            Some(split) => split.factor_entries(),
-            None => self.symbolic.len_val(),
-        }
     }
 
     fn factorize(&mut self, values: &[f64]) -> bool {
@@ -275,6 +260,25 @@ impl SparseCholesky {
         }
         for (i, v) in rhs.iter_mut().enumerate() {
             *v = self.permuted_rhs[self.new[i]];
+        }
+    }
+}
+
+/// What the tests measure of a factorization: the split's separator, the entries it stores.
+#[cfg(test)]
+impl SparseCholesky {
+    /// Equations on the separator of the two-thread split, if there is one.
+    fn split_separator(&self) -> Option<usize> {
+        self.split.as_ref().map(|s| s.separator_len())
+    }
+
+    /// Entries the Cholesky factorization stores: the whole factor's non-zeros, or on two
+    /// threads the halves' factors and the separator's dense blocks (1.29–1.35 times as many on
+    /// the box).
+    pub(crate) fn factor_nnz(&self) -> usize {
+        match &self.split {
+            Some(split) => split.factor_entries(),
+            None => self.symbolic.len_val(),
         }
     }
 }

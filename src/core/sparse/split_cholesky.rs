@@ -432,21 +432,6 @@ impl SplitCholesky {
         })
     }
 
-    /// Equations on the separator.
-    pub fn separator_len(&self) -> usize {
-        self.separator.len()
-    }
-
-    /// Entries stored for the factorization: the halves' sparse factors, and five dense
-    /// blocks on the separator (each half's `Lᵢ,ₛₛ` and `Sᵢ`, and `S`).
-    pub fn factor_entries(&self) -> usize {
-        let entries = |m: &Mat<f64>| m.nrows() * m.ncols();
-        let halves: usize = (self.halves.iter())
-            .map(|h| h.l_values.len() + entries(&h.schur) + entries(&h.l_ss))
-            .sum();
-        halves + entries(&self.schur)
-    }
-
     /// Factorizes the matrix stored in `values` (the caller's lower triangle); false when it is
     /// not positive definite.
     pub fn factor(&mut self, values: &[f64]) -> bool {
@@ -496,5 +481,24 @@ impl SplitCholesky {
         for (k, &g) in self.separator.iter().enumerate() {
             x[g] = x_s[k];
         }
+    }
+}
+
+/// What the tests measure of a split: its separator and the entries it stores.
+#[cfg(test)]
+impl SplitCholesky {
+    /// Equations on the separator.
+    pub(super) fn separator_len(&self) -> usize {
+        self.separator.len()
+    }
+
+    /// Entries stored for the factorization: the halves' sparse factors, and five dense
+    /// blocks on the separator (each half's `Lᵢ,ₛₛ` and `Sᵢ`, and `S`).
+    pub(super) fn factor_entries(&self) -> usize {
+        let entries = |m: &Mat<f64>| m.nrows() * m.ncols();
+        let halves: usize = (self.halves.iter())
+            .map(|h| h.l_values.len() + entries(&h.schur) + entries(&h.l_ss))
+            .sum();
+        halves + entries(&self.schur)
     }
 }

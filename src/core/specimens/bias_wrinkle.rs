@@ -11,48 +11,37 @@
 //! counts the square: each family gives `B/4`).
 
 use crate::core::fabric::bending;
-use crate::core::fabric::law::{CellLaw, CellParams};
 use crate::core::fabric::shear::ShearLaw;
 use crate::core::membrane::mesh::Mesh;
-use crate::core::solver::{Failure, Model, SolverOptions};
+use crate::core::solver::{BadElement, Failure, Model};
 use crate::core::specimens::bias::{ideal_force_of, kinematic_limit, specimen_mesh};
-use crate::core::specimens::euler_strip::Shortening;
-use crate::core::specimens::strip::{self, DeadLoad};
+use crate::core::specimens::clamped::{ClampedStrip, Clamps};
+use crate::core::specimens::strip::DeadLoad;
 use crate::core::wrinkles::trigger::Trigger;
 
-/// A bias strip shortened between clamps.
+/// A bias strip shortened between clamps (its free length `H`, its width `W`), with a shear
+/// law and a trigger.
 #[derive(Clone, Debug)]
-pub struct BiasWrinkleProblem {
-    /// The fabric (its linear yarn law) and its shear law (with locking, as a user gives it).
-    pub fabric: CellParams,
-    pub shear: ShearLaw,
-    /// Bending rigidity per unit width `[B1, B2]`, N·mm; the yarns' compressive stiffness as
-    /// fractions of `C`.
-    pub bending_rigidity: [f64; 2],
-    pub compression: [f64; 2],
-    /// Free length `H` between the clamps and width `W`, mm.
-    pub length: f64,
-    pub width: f64,
-    pub element_size: f64,
-    /// End shortening, mm, reached in `points` equal increments.
-    pub shortening_mm: f64,
-    pub points: usize,
+pub(crate) struct BiasWrinkleProblem {
+    /// The fabric's linear yarn law, its bending and compression, the strip and its shortening.
+    pub(crate) strip: ClampedStrip,
+    /// The fabric's shear law (with locking, as a user gives it).
+    pub(crate) shear: ShearLaw,
     /// The out-of-plane trigger ([`crate::core::wrinkles::trigger`]).
-    pub trigger: Trigger,
-    pub solver: SolverOptions,
+    pub(crate) trigger: Trigger,
 }
 
 /// The curve of the shortening, from 0.
 #[derive(Clone, Debug, Default)]
-pub struct BiasWrinkleResult {
-    pub shortening_mm: Vec<f64>,
+pub(crate) struct BiasWrinkleResult {
+    pub(crate) shortening_mm: Vec<f64>,
     /// The force on the moving clamp, compression positive, N.
-    pub force_n: Vec<f64>,
+    pub(crate) force_n: Vec<f64>,
     /// The largest wrinkle amplitude ([`crate::core::wrinkles::amplitude`], the clamps anchored), mm.
-    pub wrinkle_mm: Vec<f64>,
+    pub(crate) wrinkle_mm: Vec<f64>,
     /// |Shear| of the element nearest the centre, degrees.
-    pub shear_centre_deg: Vec<f64>,
-    pub failure: Option<Failure>,
+    pub(crate) shear_centre_deg: Vec<f64>,
+    pub(crate) failure: Option<Failure>,
 }
 
 /// The diamond mesh's yarn lines: its nodes sit at `(p ax/2, q ay/2)` with `p + q` even; yarn
@@ -86,22 +75,25 @@ fn yarn_lines(mesh: &Mesh) -> [Vec<Vec<usize>>; 2] {
 
 impl BiasWrinkleProblem {
     /// The strip's Euler force between its clamps, N: `4π² (B1 + B2)/4 · W / H²`.
-    pub fn euler_force_n(&self) -> f64 {
-        let b = 0.25 * (self.bending_rigidity[0] + self.bending_rigidity[1]);
-        4.0 * std::f64::consts::PI.powi(2) * b * self.width / self.length.powi(2)
+    pub(crate) fn euler_force_n(&self) -> f64 {
+        let p = &self.strip;
+        let b = 0.25 * (p.bending_rigidity[0] + p.bending_rigidity[1]);
+        4.0 * std::f64::consts::PI.powi(2) * b * p.width / p.length.powi(2)
     }
 
     /// The force that trellises the strip to a shortening `d` (mm), N (compression positive):
     /// the ideal kinematics' energy balance.
-    pub fn trellis_force_n(&self, d: f64) -> f64 {
-        -ideal_force_of(&|g| self.shear.moment(g), self.length, self.width, -d)
+    fn trellis_force_n(&self, d: f64) -> f64 {
+        let p = &self.strip;
+        -ideal_force_of(&|g| self.shear.moment(g), p.length, p.width, -d)
     }
 
     /// The shortening at which trellising further costs the Euler force, mm (`None`: not
     /// within the kinematics' reach).
-    pub fn onset_estimate_mm(&self) -> Option<f64> {
+    pub(crate) fn onset_estimate_mm(&self) -> Option<f64> {
         let euler = self.euler_force_n();
-        let (mut lo, mut hi) = (0.0, 0.99 * kinematic_limit(self.length, self.width));
+        let limit = kinematic_limit(self.strip.length, self.strip.width);
+        let (mut lo, mut hi) = (0.0, 0.99 * limit);
         if self.trellis_force_n(hi) < euler {
             return None;
         }
@@ -117,9 +109,10 @@ impl BiasWrinkleProblem {
     }
 
     /// Shortens the strip in `points` increments, each solved from the last.
-    pub fn solve(&self) -> Result<BiasWrinkleResult, crate::core::solver::BadElement> {
-        let (h, w) = (self.length, self.width);
-        let mesh = specimen_mesh(h, w, self.element_size);
+    pub(crate) fn solve(&self) -> Result<BiasWrinkleResult, BadElement> {
+        let p = &self.strip;
+        let (h, w) = (p.length, p.width);
+        let mesh = specimen_mesh(h, w, p.element_size);
         let lines = yarn_lines(&mesh);
         let area = crate::core::membrane::mesh::tributary_areas(&mesh);
         let first = mesh.nodes.iter().map(|p| p[0]).filter(|v| *v > 1e-9);
@@ -127,23 +120,17 @@ impl BiasWrinkleProblem {
         let clamped: Vec<bool> = (mesh.nodes.iter())
             .map(|p| p[0] <= clamp || p[0] >= h - clamp)
             .collect();
-        let held: Vec<usize> = (0..mesh.nodes.len())
-            .filter(|&i| clamped[i])
-            .flat_map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-            .collect();
-        let moving: Vec<bool> = held
-            .iter()
-            .map(|&d| d % 3 == 0 && mesh.nodes[d / 3][0] >= h - clamp)
-            .collect();
+        let clamps = Clamps::new(
+            mesh.nodes.len(),
+            |i| clamped[i],
+            |i| mesh.nodes[i][0] >= h - clamp,
+        );
         let mut hinges = Vec::new();
-        for (family, b) in lines.iter().zip(self.bending_rigidity) {
+        for (family, b) in lines.iter().zip(p.bending_rigidity) {
             hinges.extend(bending::line_hinges(&mesh.nodes, family, &area, b));
         }
-        let law = CellLaw::new(self.fabric)
-            .with_shear(Some(self.shear))
-            .with_toe(crate::core::drawing::TOE_STRAIN)
-            .with_compression(self.compression);
-        let mut model = Model::with_hinges(mesh.clone(), law, &held, hinges)?;
+        let law = p.law(Some(self.shear));
+        let mut model = Model::with_hinges(mesh.clone(), law, &clamps.held, hinges)?;
         let mut trigger = DeadLoad {
             force_z: self.trigger.forces(&mesh.nodes, &area),
             scaled: false,
@@ -157,32 +144,17 @@ impl BiasWrinkleProblem {
             shear_centre_deg: vec![0.0],
             failure: None,
         };
-        let options = strip::strip_solver(&self.solver);
-        let points = self.points.max(1);
-        for k in 1..=points {
-            let d = |k: usize| self.shortening_mm * k as f64 / points as f64;
-            let prescribed = Shortening {
-                dofs: &held,
-                moving: &moving,
-                from: d(k - 1),
-                to: d(k),
-            };
-            let force = match prescribed.solve(&mut model, &options, &mut trigger) {
-                Ok(f) => f,
-                Err(f) => {
-                    out.failure = Some(f);
-                    break;
-                }
-            };
+        let at_point = |d: f64, force: f64, model: &Model| {
             let x = model.positions();
             let wrinkles =
                 crate::core::wrinkles::amplitude::wrinkles_along(&mesh, &all_lines, &x, &clamped);
-            out.shortening_mm.push(d(k));
+            out.shortening_mm.push(d);
             out.force_n.push(force);
             out.wrinkle_mm.push(wrinkles.max_mm);
             out.shear_centre_deg
                 .push(model.shear_angles_deg()[centre].abs());
-        }
+        };
+        out.failure = clamps.shorten(&mut model, p, &mut trigger, at_point);
         Ok(out)
     }
 }
@@ -201,6 +173,100 @@ fn nearest_element(mesh: &Mesh, at: [f64; 2]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::core::fabric::law::CellParams;
+    use crate::core::solver::SolverOptions;
+
+    /// A 60 × 30 mm bias strip of the glass fabric's fitted shear law with locking at 60°,
+    /// B = 1 N·mm, compressive yarns of 1 % of C, 2.5 mm elements, shortened by 3 mm in 30 points.
+    fn strip(trigger_pa: f64) -> BiasWrinkleProblem {
+        let mut fabric = CellParams::PAPER_GLASS;
+        fabric.undulation = false;
+        BiasWrinkleProblem {
+            strip: ClampedStrip {
+                fabric,
+                bending_rigidity: [1.0, 1.0],
+                compression: [1e-2, 1e-2],
+                length: 60.0,
+                width: 30.0,
+                element_size: 2.5,
+                shortening_mm: 3.0,
+                points: 30,
+                solver: SolverOptions::default(),
+            },
+            shear: ShearLaw::new([0.0376068, -0.0786365, 0.0822838]).with_locking(60.0),
+            trigger: Trigger {
+                pressure_mpa: trigger_pa * 1e-6,
+                seed: 1,
+            },
+        }
+    }
+
+    /// The first point whose wrinkle passes 0.5 mm.
+    fn onset(r: &BiasWrinkleResult) -> usize {
+        (r.wrinkle_mm.iter().position(|w| *w > 0.5)).expect("the strip buckles")
+    }
+
+    #[test]
+    fn a_bias_strip_trellises_then_wrinkles_where_shearing_costs_more_than_bending() {
+        let p = strip(1.0);
+        let euler = p.euler_force_n();
+        let r = p.solve().unwrap();
+        assert!(r.failure.is_none(), "{:?}", r.failure);
+        let k = onset(&r);
+        // Flat while it trellises (up to 85 % of the onset's shortening: the last points before
+        // it already lift), the shear growing with the shortening.
+        for i in 1..k {
+            let d = r.shortening_mm[i];
+            if d < 0.85 * r.shortening_mm[k] {
+                assert!(r.wrinkle_mm[i] < 0.1, "Δ {d}: {} mm", r.wrinkle_mm[i]);
+            }
+            assert!(r.shear_centre_deg[i] > r.shear_centre_deg[i - 1]);
+        }
+        // It buckles at a force below the beam's Euler force (an upper bound: the hinges have no
+        // twisting stiffness, so the strip finds a cheaper mode), but not far below.
+        let buckling = r.force_n[k];
+        assert!(
+            buckling > 0.6 * euler && buckling < euler,
+            "{buckling} N against {euler} N"
+        );
+        // Past it, the force stays near that and the shear all but stops: the strip shortens by
+        // wrinkling. Rate of shear per mm before and after.
+        let last = r.force_n.len() - 1;
+        assert!(
+            (r.force_n[last] / buckling - 1.0) < 0.15,
+            "{}",
+            r.force_n[last]
+        );
+        let before = r.shear_centre_deg[k - 1] / r.shortening_mm[k - 1];
+        let after = (r.shear_centre_deg[last] - r.shear_centre_deg[k + 1])
+            / (r.shortening_mm[last] - r.shortening_mm[k + 1]);
+        assert!(
+            after < 0.25 * before,
+            "{after} °/mm after against {before} before"
+        );
+        // Against the estimate: trellising the strip (its measured pre-buckling force, which runs
+        // above the ideal kinematics' by the clamps' share) reaches the onset's force by then.
+        let estimate = p.onset_estimate_mm().unwrap();
+        assert!(
+            r.shortening_mm[k] < estimate,
+            "buckled at {} mm, estimate {estimate} mm",
+            r.shortening_mm[k]
+        );
+        assert!(r.wrinkle_mm[last] > 5.0, "{}", r.wrinkle_mm[last]);
+    }
+
+    #[test]
+    fn the_bias_strips_wrinkles_do_not_hang_on_the_trigger() {
+        let (a, b) = (strip(1.0).solve().unwrap(), strip(0.1).solve().unwrap());
+        let last = a.wrinkle_mm.len() - 1;
+        assert!(
+            (a.wrinkle_mm[last] / b.wrinkle_mm[last] - 1.0).abs() < 0.01,
+            "{} against {}",
+            a.wrinkle_mm[last],
+            b.wrinkle_mm[last]
+        );
+        assert!((onset(&a) as i64 - onset(&b) as i64).abs() <= 1);
+    }
 
     #[test]
     fn the_diamond_meshs_yarn_lines_run_at_45_degrees_through_every_node() {

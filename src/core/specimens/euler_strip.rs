@@ -11,69 +11,56 @@
 //! nearly flat until the end force reaches `4π²BW/L²`, then buckles, the force staying near
 //! that value and the amplitude `(2/π)√(L(Δ − Δc))`.
 
-use crate::core::fabric::law::{CellLaw, CellParams};
-use crate::core::solver::{Failure, Model, Prescribed, Solver, SolverOptions};
+use crate::core::membrane::element::GeometryError;
+use crate::core::solver::{BadElement, Failure, Model};
+use crate::core::specimens::clamped::{ClampedStrip, Clamps};
 use crate::core::specimens::strip::{self, DeadLoad};
 
-/// A clamped–clamped strip shortened by `shortening_mm`.
+/// A clamped–clamped strip shortened by its `shortening_mm`, its fabric's linear yarn law.
 #[derive(Clone, Debug)]
-pub struct EulerStripProblem {
-    /// The fabric (the linear yarn law).
-    pub fabric: CellParams,
-    /// Bending rigidity per unit width `[B1, B2]`, N·mm.
-    pub bending_rigidity: [f64; 2],
-    /// The yarns' compressive stiffness as fractions of `C`.
-    pub compression: [f64; 2],
-    /// Free length `L` and width `W`, mm.
-    pub length: f64,
-    pub width: f64,
-    pub element_size: f64,
-    /// End shortening `Δ`, mm.
-    pub shortening_mm: f64,
+pub(crate) struct EulerStripProblem {
+    pub(crate) strip: ClampedStrip,
     /// The trigger: the mid-length sag the lateral pressure alone causes, mm.
-    pub trigger_sag_mm: f64,
-    /// Points of the force–shortening curve.
-    pub points: usize,
-    pub solver: SolverOptions,
+    pub(crate) trigger_sag_mm: f64,
 }
 
 /// The curve of the shortening.
 #[derive(Clone, Debug, Default)]
-pub struct EulerStripResult {
-    pub shortening_mm: Vec<f64>,
+pub(crate) struct EulerStripResult {
+    pub(crate) shortening_mm: Vec<f64>,
     /// The force on the moving clamp along −x (compression positive), N.
-    pub force_n: Vec<f64>,
+    pub(crate) force_n: Vec<f64>,
     /// The deflection at mid-length below the clamps' plane (mean over the width), mm.
-    pub amplitude_mm: Vec<f64>,
+    pub(crate) amplitude_mm: Vec<f64>,
     /// The wrinkle figure of the strip ([`crate::core::wrinkles::amplitude`], the clamps anchored), mm.
-    pub wrinkle_mm: Vec<f64>,
-    pub failure: Option<Failure>,
+    pub(crate) wrinkle_mm: Vec<f64>,
+    pub(crate) failure: Option<Failure>,
 }
 
 impl EulerStripProblem {
-    /// Shortens the strip in `points` increments; each point solved from the last.
-    pub fn solve(&self) -> EulerStripResult {
-        let (mesh, h) = strip::strip_mesh(self.length, self.width, self.element_size, 4, 1);
+    /// Shortens the strip in `points` increments; each point solved from the last. An element
+    /// that cannot be built (a size not positive) is the error.
+    pub(crate) fn solve(&self) -> Result<EulerStripResult, BadElement> {
+        let p = &self.strip;
+        let (mesh, h) = strip::strip_mesh(p.length, p.width, p.element_size, 4, 1);
         let [n1, _] = mesh.grid.expect("a yarn grid");
         let column = |i: usize| i % (n1 + 1);
         let clamped = |c: usize| c <= 1 || c >= n1 - 1;
-        let held: Vec<usize> = (0..mesh.nodes.len())
-            .filter(|&i| clamped(column(i)))
-            .flat_map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-            .collect();
-        let moving: Vec<bool> = held
-            .iter()
-            .map(|&d| d % 3 == 0 && column(d / 3) >= n1 - 1)
-            .collect();
-        let mut hinges = crate::core::membrane::hinges::yarn_hinges(&mesh, self.bending_rigidity)
-            .expect("a yarn grid");
+        let clamps = Clamps::new(
+            mesh.nodes.len(),
+            |i| clamped(column(i)),
+            |i| column(i) >= n1 - 1,
+        );
+        // The strip's grid runs along its yarns: only a first element of no length (or not
+        // finite) has no yarn lines.
+        let degenerate = BadElement {
+            element: 0,
+            cause: GeometryError::Degenerate,
+        };
+        let mut hinges = crate::core::membrane::hinges::yarn_hinges(&mesh, p.bending_rigidity)
+            .ok_or(degenerate)?;
         strip::stiffen_clamp_edges(&mut hinges, column, clamped);
-        let law = CellLaw::new(self.fabric)
-            .with_toe(crate::core::drawing::TOE_STRAIN)
-            .with_compression(self.compression);
-        let mut model = Model::with_hinges(mesh.clone(), law, &held, hinges)
-            .expect("a rectangular strip has good elements");
-        let options = strip::strip_solver(&self.solver);
+        let mut model = Model::with_hinges(mesh.clone(), p.law(None), &clamps.held, hinges)?;
         let mut out = EulerStripResult {
             shortening_mm: vec![0.0],
             force_n: vec![0.0],
@@ -81,7 +68,7 @@ impl EulerStripProblem {
             wrinkle_mm: vec![0.0],
             failure: None,
         };
-        let q = self.trigger_sag_mm * 384.0 * self.bending_rigidity[0] / self.length.powi(4);
+        let q = self.trigger_sag_mm * 384.0 * p.bending_rigidity[0] / p.length.powi(4);
         let mut trigger = DeadLoad {
             force_z: crate::core::membrane::mesh::tributary_areas(&mesh)
                 .iter()
@@ -89,76 +76,133 @@ impl EulerStripProblem {
                 .collect(),
             scaled: false,
         };
-        let points = self.points.max(1);
         let mid: Vec<usize> = (0..mesh.nodes.len())
-            .filter(|&i| (mesh.nodes[i][0] - 0.5 * self.length).abs() < 0.5 * h + 1e-9)
+            .filter(|&i| (mesh.nodes[i][0] - 0.5 * p.length).abs() < 0.5 * h + 1e-9)
             .collect();
-        for k in 1..=points {
-            let d = self.shortening_mm * k as f64 / points as f64;
-            let prescribed = Shortening {
-                dofs: &held,
-                moving: &moving,
-                from: self.shortening_mm * (k - 1) as f64 / points as f64,
-                to: d,
-            };
-            let force = match prescribed.solve(&mut model, &options, &mut trigger) {
-                Ok(f) => f,
-                Err(f) => {
-                    out.failure = Some(f);
-                    break;
-                }
-            };
+        let anchored: Vec<bool> = (0..mesh.nodes.len()).map(|i| clamped(column(i))).collect();
+        let at_point = |d: f64, force: f64, model: &Model| {
             let x = model.positions();
             let amp = -mid.iter().map(|&i| x[i][2]).sum::<f64>() / mid.len().max(1) as f64;
             out.shortening_mm.push(d);
             out.force_n.push(force);
             out.amplitude_mm.push(amp);
-            let anchored: Vec<bool> = (0..x.len()).map(|i| clamped(column(i))).collect();
             let w = crate::core::wrinkles::amplitude::wrinkles(&mesh, &x, &anchored);
             out.wrinkle_mm.push(w.map_or(0.0, |w| w.max_mm));
+        };
+        out.failure = clamps.shorten(&mut model, p, &mut trigger, at_point);
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::fabric::law::CellParams;
+    use crate::core::solver::SolverOptions;
+
+    /// The Euler strip of the glass fabric (B = 0.08 N·mm per mm of width): 100 × 10 mm, 2 mm
+    /// elements, shortened by 1 mm in ten points, with yarns `fraction` of C in compression and
+    /// a trigger of `sag` mm.
+    fn problem(fraction: f64, sag: f64) -> EulerStripProblem {
+        let mut fabric = CellParams::PAPER_GLASS;
+        fabric.undulation = false;
+        EulerStripProblem {
+            strip: ClampedStrip {
+                fabric,
+                bending_rigidity: [0.08, 0.08],
+                compression: [fraction, fraction],
+                length: 100.0,
+                width: 10.0,
+                element_size: 2.0,
+                shortening_mm: 1.0,
+                points: 10,
+                solver: SolverOptions::default(),
+            },
+            trigger_sag_mm: sag,
         }
-        out
     }
-}
 
-/// The clamps from one point of the curve to the next: the moving clamp's x from `−from` to
-/// `−to` along the load path, the rest held.
-pub(crate) struct Shortening<'a> {
-    pub(crate) dofs: &'a [usize],
-    pub(crate) moving: &'a [bool],
-    pub(crate) from: f64,
-    pub(crate) to: f64,
-}
-
-impl Shortening<'_> {
-    /// Solves `model` from the clamps at `from` to `to` (with `trigger` held), and returns the
-    /// force on the moving clamp along −x (compression positive), N.
-    pub(crate) fn solve(
-        &self,
-        model: &mut Model,
-        options: &SolverOptions,
-        trigger: &mut DeadLoad,
-    ) -> Result<f64, Failure> {
-        let mut solver = Solver::new(model, options.clone());
-        solver.solve(self, trigger, &mut |_| std::ops::ControlFlow::Continue(()))?;
-        // The solver left the element outputs at the converged state.
-        let f = model.internal_force();
-        let pulled: f64 = (self.dofs.iter().zip(self.moving))
-            .filter(|(_, m)| **m)
-            .map(|(&dof, _)| f[dof])
-            .sum();
-        Ok(-pulled)
+    fn euler(fraction: f64, sag: f64) -> EulerStripResult {
+        problem(fraction, sag).solve().unwrap()
     }
-}
 
-impl Prescribed for Shortening<'_> {
-    fn dofs(&self) -> &[usize] {
-        self.dofs
+    #[test]
+    fn a_strip_of_no_length_or_width_is_an_error_not_a_panic() {
+        let mut p = problem(1e-5, 0.01);
+        p.strip.length = 0.0;
+        assert_eq!(p.solve().unwrap_err().cause, GeometryError::Degenerate);
+        let mut p = problem(1e-5, 0.01);
+        p.strip.width = 0.0;
+        assert_eq!(p.solve().unwrap_err().cause, GeometryError::Degenerate);
     }
-    fn values(&self, lambda: f64, out: &mut [f64]) {
-        let d = self.from + lambda * (self.to - self.from);
-        for (o, &m) in out.iter_mut().zip(self.moving) {
-            *o = if m { -d } else { 0.0 };
+
+    #[test]
+    fn the_euler_strip_stays_flat_to_the_critical_force_then_buckles_as_the_closed_form() {
+        let (b, w, l) = (0.08, 10.0, 100.0);
+        let critical = 4.0 * std::f64::consts::PI.powi(2) * b * w / (l * l);
+        // Compressive yarns of 1e-5 C (0.38 N): the membrane's end force W Cc Δ/(L0 L) reaches
+        // the critical force at Δc = 0.396 mm.
+        let cc = 1e-5 * CellParams::PAPER_GLASS.c[0];
+        let per_mm = w * cc / (CellParams::PAPER_GLASS.l0[1] * l);
+        let delta_c = critical / per_mm;
+        for sag in [0.01, 0.001] {
+            let r = euler(1e-5, sag);
+            assert!(r.failure.is_none(), "{:?}", r.failure);
+            for i in 1..r.force_n.len() {
+                let (d, f, a) = (r.shortening_mm[i], r.force_n[i], r.amplitude_mm[i]);
+                if d < 0.8 * delta_c {
+                    // Flat: the membrane's force, the trigger's sag barely amplified.
+                    assert!((f / (per_mm * d) - 1.0).abs() < 0.01, "Δ {d}: {f} N");
+                    assert!(a.abs() < 0.1, "Δ {d}: amplitude {a} mm before buckling");
+                } else if d > 1.4 * delta_c {
+                    let closed = 2.0 / std::f64::consts::PI * (l * (d - delta_c)).sqrt();
+                    assert!(
+                        (f / critical - 1.0).abs() < 0.03,
+                        "Δ {d}: {f} N against {critical} N"
+                    );
+                    assert!(
+                        (a / closed - 1.0).abs() < 0.1,
+                        "Δ {d}: {a} mm against {closed} mm"
+                    );
+                }
+            }
         }
+    }
+
+    #[test]
+    fn stiffer_compression_buckles_sooner_to_the_same_plateau() {
+        // 1e-2 C: Δc = 0.4 µm, so every point is past buckling.
+        let r = euler(1e-2, 0.01);
+        let critical = 4.0 * std::f64::consts::PI.powi(2) * 0.08 * 10.0 / 1e4;
+        let last = r.force_n.len() - 1;
+        assert!((r.force_n[last] / critical - 1.0).abs() < 0.03);
+        let closed = 2.0 / std::f64::consts::PI * (100.0f64 * 1.0).sqrt();
+        assert!((r.amplitude_mm[last] / closed - 1.0).abs() < 0.1);
+    }
+
+    /// The wrinkle figure (`core::wrinkles::amplitude`) measures the buckled strip's height from the clamps'
+    /// chord: the closed form's amplitude past buckling, within 10 %, and nothing while flat.
+    #[test]
+    fn the_wrinkle_figure_of_the_euler_strip_is_its_amplitude() {
+        let (b, w, l) = (0.08, 10.0, 100.0);
+        let critical = 4.0 * std::f64::consts::PI.powi(2) * b * w / (l * l);
+        let cc = 1e-5 * CellParams::PAPER_GLASS.c[0];
+        let delta_c = critical / (w * cc / (CellParams::PAPER_GLASS.l0[1] * l));
+        let r = euler(1e-5, 0.001);
+        let mut checked = 0;
+        for i in 1..r.wrinkle_mm.len() {
+            let (d, wr) = (r.shortening_mm[i], r.wrinkle_mm[i]);
+            if d < 0.8 * delta_c {
+                assert!(wr < 0.05, "Δ {d}: wrinkle {wr} mm while flat");
+            } else if d > 1.4 * delta_c {
+                let closed = 2.0 / std::f64::consts::PI * (l * (d - delta_c)).sqrt();
+                assert!(
+                    (wr / closed - 1.0).abs() < 0.1,
+                    "Δ {d}: {wr} mm against {closed} mm"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked >= 3);
     }
 }

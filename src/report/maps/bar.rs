@@ -181,31 +181,19 @@ fn draw_ticks(root: &Area, top: f64, x0: i32, y_of: &dyn Fn(f64) -> i32) -> Resu
 
 #[cfg(test)]
 mod tests {
-    use super::super::Unit;
     use super::*;
     use crate::report::canvas::Canvas;
 
     /// A map of two cells, one over the limit, drawn into an RGB buffer.
     fn drawn() -> (Vec<u8>, (u32, u32)) {
         let quad = |x: f64| [[x, 0.0], [x + 50.0, 0.0], [x + 50.0, 40.0], [x, 40.0]];
-        let map = FieldMap {
-            title: "max shear".into(),
-            subtitle: String::new(),
-            design: String::new(),
-            fit_to_field: false,
-            quads: vec![quad(-50.0), quad(0.0)],
-            values: vec![12.0, 71.0],
-            limit: 60.0,
-            limit_name: "locking angle".into(),
-            bar_caption: "shear (°)".into(),
-            unit: Unit::Degrees,
-            max_at: None,
-            peak: None,
-            outlines: Vec::new(),
-            size: (1100, 900),
-            scale_max: None,
-            view: None,
-        };
+        let map = FieldMap::shear(
+            "max shear".into(),
+            String::new(),
+            vec![quad(-50.0), quad(0.0)],
+            vec![12.0, 71.0],
+            60.0,
+        );
         let size = map.size;
         let mut buf = vec![255u8; (3 * size.0 * size.1) as usize];
         {

@@ -71,34 +71,25 @@ pub fn form_view(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
         let c = result.element_centre(e);
         project([c[0], c[1], -c[2]])
     });
+    let title = format!(
+        "{}: the formed blank, max shear {} over a woven cell — {}",
+        ctx.scene,
+        Unit::Degrees.show(max),
+        ctx.verdict
+    );
+    let subtitle = format!(
+        "Turned over (the punch's side up), seen from {ELEVATION_DEG}° above the flange, \
+         shaded by the light on each element: {}",
+        crate::summary::stroke_reached(result, ctx.stroke_mm)
+    );
     FieldMap {
-        title: format!(
-            "{}: the formed blank, max shear {} over a woven cell — {}",
-            ctx.scene,
-            Unit::Degrees.show(max),
-            ctx.verdict
-        ),
-        subtitle: format!(
-            "Turned over (the punch's side up), seen from {ELEVATION_DEG}° above the flange, \
-             shaded by the light on each element: {}",
-            crate::summary::stroke_reached(result, ctx.stroke_mm)
-        ),
         design: ctx.design.to_string(),
-        fit_to_field: false,
-        quads,
-        values,
-        limit: locking_angle_deg,
-        limit_name: "locking angle".into(),
-        bar_caption: "shear (°)".into(),
-        unit: Unit::Degrees,
         max_at: at,
         peak: Some(max),
-        outlines: Vec::new(),
-        size: (1100, 900),
-        scale_max: None,
         view: Some(View {
             shade,
             axes: ["across the view (mm)".into(), "up the view (mm)".into()],
         }),
+        ..FieldMap::shear(title, subtitle, quads, values, locking_angle_deg)
     }
 }

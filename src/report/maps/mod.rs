@@ -213,29 +213,20 @@ pub fn shear_map(result: &DrawingResult, ctx: &MapContext, locking_angle_deg: f6
     let (e, max) = result.max_shear();
     let (quads, values) = full_blank(result, &values);
     let c = result.element_centre(e);
+    let title = format!(
+        "{}: max shear {} over a woven cell (locking {}) — {}",
+        ctx.scene,
+        Unit::Degrees.show(max),
+        Unit::Degrees.show(locking_angle_deg),
+        ctx.verdict
+    );
+    let subtitle = crate::summary::shear_subtitle(result, ctx.stroke_mm);
     FieldMap {
-        title: format!(
-            "{}: max shear {} over a woven cell (locking {}) — {}",
-            ctx.scene,
-            Unit::Degrees.show(max),
-            Unit::Degrees.show(locking_angle_deg),
-            ctx.verdict
-        ),
-        subtitle: crate::summary::shear_subtitle(result, ctx.stroke_mm),
         design: ctx.design.to_string(),
-        fit_to_field: false,
-        quads,
-        values,
-        limit: locking_angle_deg,
-        limit_name: "locking angle".into(),
-        bar_caption: "shear (°)".into(),
-        unit: Unit::Degrees,
         max_at: (!result.shear_deg.is_empty()).then_some([c[0], c[1]]),
         peak: Some(max),
         outlines: vec![Outline::dashed(die_opening_outline(&ctx.tooling))],
-        size: (1100, 900),
-        scale_max: None,
-        view: None,
+        ..FieldMap::shear(title, subtitle, quads, values, locking_angle_deg)
     }
 }
 
@@ -321,6 +312,36 @@ use super::canvas::{Area, Canvas, write_png};
 use plotters::coord::types::RangedCoordf64;
 
 impl FieldMap {
+    /// A map of the shear angle (degrees) against the locking angle, 1100 × 900 pixels, seen
+    /// from above with nothing marked: what every shear map shares, the run's, the formed
+    /// blank's, a sweep design's and the bias specimen's.
+    pub fn shear(
+        title: String,
+        subtitle: String,
+        quads: Vec<PlanQuad>,
+        values: Vec<f64>,
+        locking_angle_deg: f64,
+    ) -> FieldMap {
+        FieldMap {
+            title,
+            subtitle,
+            design: String::new(),
+            fit_to_field: false,
+            quads,
+            values,
+            limit: locking_angle_deg,
+            limit_name: "locking angle".into(),
+            bar_caption: "shear (°)".into(),
+            unit: Unit::Degrees,
+            max_at: None,
+            peak: None,
+            outlines: Vec::new(),
+            size: (1100, 900),
+            scale_max: None,
+            view: None,
+        }
+    }
+
     /// The top of the colour scale: the shared one when given ([`FieldMap::scale_max`]), else
     /// a little past the limit, or the largest value.
     pub fn scale_top(&self) -> f64 {

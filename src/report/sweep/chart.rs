@@ -439,31 +439,17 @@ mod tests {
             .enumerate()
             .map(|(i, d)| {
                 let failed = i % 7 == 3;
+                let verdict = match i % 7 {
+                    3 => Verdict::Failed,
+                    0 | 1 => Verdict::Feasible,
+                    2 => Verdict::Marginal,
+                    _ => Verdict::Infeasible,
+                };
                 Row {
-                    design: d.id.clone(),
                     index: i,
-                    params: plan.params(&plan.columns(), d),
                     max_shear_deg: (!failed).then_some(i as f64 + 0.5),
-                    max_tension_n: None,
-                    punch_force_n: None,
-                    max_shear_err_deg: None,
-                    max_tension_err_pct: None,
-                    punch_force_err_pct: None,
-                    feasible: false,
                     converged: !failed,
-                    wall_s: None,
-                    map: None,
-                    verdict: match i % 7 {
-                        3 => Verdict::Failed,
-                        0 | 1 => Verdict::Feasible,
-                        2 => Verdict::Marginal,
-                        _ => Verdict::Infeasible,
-                    },
-                    failure: None,
-                    max_wrinkle_mm: None,
-                    max_wrinkle_err_mm: None,
-                    steps: None,
-                    newton_iterations: None,
+                    ..Row::new(d, plan.params(&plan.columns(), d), verdict)
                 }
             })
             .collect()

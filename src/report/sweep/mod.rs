@@ -61,27 +61,18 @@ pub fn full_blank_of(field: &StoredField, values: &[f64]) -> (Vec<PlanQuad>, Vec
 /// The map of one design of a sweep, on the sweep's common colour scale.
 pub fn field_map(field: &StoredField, label: &str, scale_max: f64) -> FieldMap {
     let (quads, values) = full_blank(field);
+    let title = format!(
+        "{label}: max shear {} over a woven cell (locking {}) — {}",
+        Unit::Degrees.show(field.max_shear_deg),
+        Unit::Degrees.show(field.locking_angle_deg),
+        field.verdict
+    );
+    let subtitle = format!("{}; one colour scale for the whole sweep", field.subtitle);
     FieldMap {
-        title: format!(
-            "{label}: max shear {} over a woven cell (locking {}) — {}",
-            Unit::Degrees.show(field.max_shear_deg),
-            Unit::Degrees.show(field.locking_angle_deg),
-            field.verdict
-        ),
-        subtitle: format!("{}; one colour scale for the whole sweep", field.subtitle),
-        design: String::new(),
-        fit_to_field: false,
-        quads,
-        values,
-        limit: field.locking_angle_deg,
-        limit_name: "locking angle".into(),
-        bar_caption: "shear (°)".into(),
-        unit: Unit::Degrees,
         max_at: field.max_at,
         peak: Some(field.max_shear_deg),
         outlines: vec![Outline::dashed(field.die_opening.clone())],
-        size: (1100, 900),
         scale_max: Some(scale_max),
-        view: None,
+        ..FieldMap::shear(title, subtitle, quads, values, field.locking_angle_deg)
     }
 }

@@ -193,25 +193,13 @@ mod tests {
     fn row(plan: &Plan, d: &Design, verdict: Verdict) -> Row {
         let i = d.index as f64;
         Row {
-            design: d.id.clone(),
-            index: d.index,
-            params: plan.params(&plan.columns(), d),
             max_shear_deg: Some(62.5 - 3.0 * i),
             max_tension_n: Some(100.0 + 600.0 * i),
-            punch_force_n: None,
             max_shear_err_deg: Some(1.0),
             max_tension_err_pct: Some(10.0),
-            punch_force_err_pct: None,
             feasible: verdict == Verdict::Feasible,
             converged: true,
-            wall_s: None,
-            map: None,
-            verdict,
-            failure: None,
-            max_wrinkle_mm: None,
-            max_wrinkle_err_mm: None,
-            steps: None,
-            newton_iterations: None,
+            ..Row::new(d, plan.params(&plan.columns(), d), verdict)
         }
     }
 

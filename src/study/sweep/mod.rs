@@ -55,7 +55,7 @@ pub use plan::{Axis, Plan, SHORT_NAMES};
 pub use rows::{Counts, FIGURE_COLUMNS, Row, column_names, counts, csv_header};
 pub use run::{Options, Outcome, Progress, cores, pool, run, workers_for};
 pub use shard::Shard;
-pub use store::{ReadReport, holds_this_sweep, read_lock};
+pub use store::{OtherSweep, ReadReport, holds_this_sweep, read_lock};
 pub use values::{as_number, fnv_hex, show_value, unit_of};
 
 /// Why a sweep did not go through: bad input, found before any work (exit 2), or a failure

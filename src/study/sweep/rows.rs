@@ -171,11 +171,14 @@ impl Row {
         csv_line(&fields)
     }
 
-    pub(super) fn invalid(plan: &Plan, columns: &[Column], design: &Design, reason: String) -> Row {
+    /// The row of `design` (its id and index) with its parameters and `verdict`, and nothing
+    /// else: no figure, no error band, not converged nor feasible, no time, map, failure or
+    /// counts. Every row starts here and adds what it knows.
+    pub fn new(design: &Design, params: Vec<(String, toml::Value)>, verdict: Verdict) -> Row {
         Row {
             design: design.id.clone(),
             index: design.index,
-            params: plan.params(columns, design),
+            params,
             max_shear_deg: None,
             max_tension_n: None,
             punch_force_n: None,
@@ -186,12 +189,19 @@ impl Row {
             converged: false,
             wall_s: None,
             map: None,
-            verdict: Verdict::Invalid,
-            failure: Some(reason),
+            verdict,
+            failure: None,
             max_wrinkle_mm: None,
             max_wrinkle_err_mm: None,
             steps: None,
             newton_iterations: None,
+        }
+    }
+
+    pub(super) fn invalid(plan: &Plan, columns: &[Column], design: &Design, reason: String) -> Row {
+        Row {
+            failure: Some(reason),
+            ..Row::new(design, plan.params(columns, design), Verdict::Invalid)
         }
     }
 
@@ -217,9 +227,6 @@ impl Row {
     ) -> Row {
         let verdict = s.judged.verdict;
         Row {
-            design: design.id.clone(),
-            index: design.index,
-            params: plan.params(columns, design),
             max_shear_deg: Some(round_to(s.max_shear_deg, 4)),
             max_tension_n: Some(round_to(s.max_tension_n, 3)),
             punch_force_n: Some(round_to(s.punch_force_n, 3)),
@@ -230,7 +237,6 @@ impl Row {
             converged: s.converged,
             wall_s: Some(round_to(s.wall_s, 3)),
             map: Some(format!("maps/{}.png", design.id)),
-            verdict,
             failure: s.failure.clone().or_else(|| {
                 (!s.unsound.is_empty()).then(|| format!("not sound: {}", s.unsound.join("; ")))
             }),
@@ -238,6 +244,7 @@ impl Row {
             max_wrinkle_err_mm: s.max_wrinkle_err_mm.map(|w| round_to(w, 3)),
             steps: Some(s.steps),
             newton_iterations: Some(s.newton_iterations),
+            ..Row::new(design, plan.params(columns, design), verdict)
         }
     }
 
@@ -302,9 +309,6 @@ impl Row {
         let count = |name: &str| get(name).and_then(|s| s.parse::<u32>().ok());
         let verdict = Verdict::parse(get("verdict")?)?;
         let row = Row {
-            design: design.id.clone(),
-            index: design.index,
-            params: plan.params(columns, design),
             max_shear_deg: num("max_shear_deg")?,
             max_tension_n: num("max_tension_n")?,
             punch_force_n: num("punch_force_n")?,
@@ -315,12 +319,12 @@ impl Row {
             converged: boolean("converged")?,
             wall_s: num("wall_s")?,
             map: text("map"),
-            verdict,
             failure: text("failure"),
             max_wrinkle_mm: num("max_wrinkle_mm").unwrap_or(None),
             max_wrinkle_err_mm: num("max_wrinkle_err_mm").unwrap_or(None),
             steps: count("steps"),
             newton_iterations: count("newton_iterations"),
+            ..Row::new(design, plan.params(columns, design), verdict)
         };
         // The parameters written must be the design's (the id's hash says so too).
         for (name, v) in &row.params {

@@ -370,7 +370,7 @@ fn sort_valid<'d>(
         valid.retain(|(d, scene)| {
             let fits = crate::machine::check_fits_among(&scene.to_problem(), budget, runs);
             if let Err(why) = &fits {
-                invalid.push(Row::invalid(plan, columns, d, why.clone()));
+                invalid.push(Row::invalid(plan, columns, d, why.to_string()));
             }
             fits.is_ok()
         });

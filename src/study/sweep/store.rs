@@ -413,10 +413,38 @@ fn agrees_with_field(dir: &Path, row: &Row) -> Option<bool> {
     Some(shear_agrees && Verdict::of_sentence(&field.verdict) == row.verdict)
 }
 
+/// Why a folder cannot take a sweep, naming the folder.
+#[derive(Debug, thiserror::Error)]
+pub enum OtherSweep {
+    #[error(
+        "{} holds a results.csv without a sweep.lock: cannot tell which sweep it belongs to",
+        dir.display()
+    )]
+    RowsWithoutLock { dir: PathBuf },
+    #[error("{lock}: cannot tell which sweep {} belongs to", dir.display())]
+    UnreadableLock {
+        dir: PathBuf,
+        #[source]
+        lock: StoreError,
+    },
+    #[error(
+        "{} holds another sweep ({its_file}, whose {differs} differs from {this_file}'s)",
+        dir.display()
+    )]
+    Another {
+        dir: PathBuf,
+        /// The sweep file of the folder's lock, and of the sweep asking.
+        its_file: String,
+        this_file: String,
+        /// `base scene` or `grid`: what differs (the base scene first).
+        differs: &'static str,
+    },
+}
+
 /// Whether `dir` can take `plan`'s sweep: `Ok(false)` when it holds no sweep, `Ok(true)` when
 /// it holds this one (the same base scene and grid in its `sweep.lock`). Refused, with why:
 /// a folder of another sweep, or rows or a lock that cannot be told to be this sweep's.
-pub fn holds_this_sweep(dir: &Path, plan: &Plan) -> Result<bool, String> {
+pub fn holds_this_sweep(dir: &Path, plan: &Plan) -> Result<bool, OtherSweep> {
     let rows = dir.join("results.csv");
     let lock = match read_lock(dir) {
         Ok(lock) => lock,
@@ -424,32 +452,31 @@ pub fn holds_this_sweep(dir: &Path, plan: &Plan) -> Result<bool, String> {
             if !rows.exists() {
                 return Ok(false);
             }
-            return Err(format!(
-                "{} holds a results.csv without a sweep.lock: cannot tell which sweep it belongs to",
-                dir.display()
-            ));
+            return Err(OtherSweep::RowsWithoutLock {
+                dir: dir.to_path_buf(),
+            });
         }
-        Err(e) => {
-            return Err(format!(
-                "{e}: cannot tell which sweep {} belongs to",
-                dir.display()
-            ));
+        Err(lock) => {
+            return Err(OtherSweep::UnreadableLock {
+                dir: dir.to_path_buf(),
+                lock,
+            });
         }
     };
     if lock.base_hash == plan.base_hash && lock.sweep_hash == plan.sweep_hash {
         return Ok(true);
     }
-    let what = if lock.base_hash != plan.base_hash {
+    let differs = if lock.base_hash != plan.base_hash {
         "base scene"
     } else {
         "grid"
     };
-    Err(format!(
-        "{} holds another sweep ({}, whose {what} differs from {}'s)",
-        dir.display(),
-        lock.plan.sweep_file,
-        plan.sweep_file
-    ))
+    Err(OtherSweep::Another {
+        dir: dir.to_path_buf(),
+        its_file: lock.plan.sweep_file,
+        this_file: plan.sweep_file.clone(),
+        differs,
+    })
 }
 
 /// The rows of an earlier run of this sweep in `dir` (with `--resume`); refuses a folder that
