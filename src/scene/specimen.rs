@@ -213,14 +213,6 @@ pub fn cantilever_problem(
             ),
         ));
     }
-    if f.undulation {
-        return Err(key(
-            "fabric.undulation",
-            "= true: the cantilever needs the linear yarn law (fabric.undulation = false): the \
-             woven law has no compressive stiffness yet"
-                .into(),
-        ));
-    }
     let bending = scene.bending().expect("bending rigidity is set");
     Ok(CantileverProblem {
         fabric: scene.to_cell_params(),

@@ -174,8 +174,9 @@ impl Scene {
     }
 
     /// Bending and what goes with it: rigidities ≥ 0 with one > 0, compressive stiffnesses
-    /// ≥ 0 and below `c`, the linear law and yarns along the mesh's lines (the hinges run
-    /// along them), an areal mass > 0.
+    /// ≥ 0 and below `c`, an areal mass > 0. Either yarn law and any yarn angle take bending
+    /// (off 90° the hinges run along the mesh's lines with the yarns' rigidities projected on
+    /// them: `core::membrane::hinges::rigidity_along_lines`).
     fn check_bending(&self) -> Result<(), Broken> {
         let f = &self.fabric;
         if let Some(b) = f.bending_rigidity {
@@ -187,26 +188,6 @@ impl Scene {
                     broken("fabric.bending_rigidity", PerYarn(b), what)
                 },
             )?;
-            ok_if(!f.undulation, || {
-                broken_with(
-                    &["fabric.bending_rigidity", "fabric.undulation"],
-                    "fabric.bending_rigidity with fabric.undulation = true: expected the linear \
-                     yarn law (undulation = false) with bending; the woven law has no \
-                     compressive branch yet"
-                        .to_string(),
-                )
-            })?;
-            ok_if((f.yarn_angle_deg - 90.0).abs() < 1e-9, || {
-                broken_with(
-                    &["fabric.bending_rigidity", "fabric.yarn_angle_deg"],
-                    format!(
-                        "fabric.bending_rigidity with fabric.yarn_angle_deg = {}: expected \
-                         yarns at 90° with bending (the hinges run along the blank mesh's \
-                         lines, which are the yarns only at 90°)",
-                        Num(f.yarn_angle_deg)
-                    ),
-                )
-            })?;
         }
         if f.bending_rigidity.is_some() {
             ok_if(self.mesh.symmetry != SymmetryChoice::Quarter, || {

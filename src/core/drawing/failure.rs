@@ -22,8 +22,8 @@ pub enum DrawingFailure {
     BadElement(BadElement),
     /// The solver stopped short of the full stroke.
     Solver(Failure),
-    /// Bending was asked for on a blank whose mesh lines are not its yarn lines (a yarn angle
-    /// off 90°): the hinges have no line to run along.
+    /// Bending was asked for on a blank that is not meshed as a grid of lines: the hinges have
+    /// no line to run along (every drawing's blank is a grid; a guard, not a user's case).
     BendingOffYarnLines,
 }
 
@@ -59,8 +59,7 @@ impl std::fmt::Display for DrawingFailure {
             DrawingFailure::Solver(e) => write!(f, "{e}"),
             DrawingFailure::BendingOffYarnLines => write!(
                 f,
-                "bending needs the yarns along the blank mesh's lines (fabric.yarn_angle_deg = \
-                 90): the hinges run along them"
+                "bending needs a blank meshed as a grid of lines: the hinges run along them"
             ),
         }
     }

@@ -398,7 +398,9 @@ impl DrawingProblem {
         let mut hinges = Vec::new();
         if let Some(b) = self.bending {
             law = law.with_compression(b.compression);
-            hinges = crate::core::membrane::hinges::yarn_hinges(&mesh, b.rigidity)
+            use crate::core::membrane::hinges::{grid_line_hinges, yarn_hinges};
+            hinges = yarn_hinges(&mesh, b.rigidity)
+                .or_else(|| grid_line_hinges(&mesh, b.rigidity))
                 .ok_or(DrawingFailure::BendingOffYarnLines)?;
         }
         let model = Model::with_hinges(mesh, law, &prescribed.dofs, hinges)

@@ -44,8 +44,6 @@ pub struct CantileverProblem {
 /// Why a cantilever test has no answer.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CantileverError {
-    /// The woven (undulation) law has no compressive branch yet.
-    WovenLaw,
     /// A size, rigidity or mass is not positive and finite.
     NotPositive { what: &'static str, value: f64 },
 }
@@ -53,11 +51,6 @@ pub enum CantileverError {
 impl std::fmt::Display for CantileverError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            CantileverError::WovenLaw => write!(
-                f,
-                "the cantilever needs the linear yarn law (fabric.undulation = false): the woven \
-                 law has no compressive stiffness yet"
-            ),
             CantileverError::NotPositive { what, value } => {
                 write!(f, "{what} must be positive and finite, got {value}")
             }
@@ -87,9 +80,6 @@ pub struct CantileverResult {
 
 impl CantileverProblem {
     fn check(&self) -> Result<(), CantileverError> {
-        if self.fabric.undulation {
-            return Err(CantileverError::WovenLaw);
-        }
         let positive = [
             ("the overhang length", self.length),
             ("the strip's width", self.width),
