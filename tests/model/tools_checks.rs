@@ -222,6 +222,19 @@ fn curvature_of_the_nose_and_the_sphere() {
         (k - analytic::circle_curvature(6.0)).abs() < 1e-5,
         "profile curvature {k}"
     );
+    // The largest principal curvature: 1/R on the sphere, 1/rp on the nose (its hoop
+    // curvature is smaller), 0 on the flat top.
+    let largest = sphere.largest_curvature([0.0, 0.0, 0.0], 1.0);
+    assert!(
+        (largest - analytic::circle_curvature(30.0)).abs() < 1e-6,
+        "{largest}"
+    );
+    let largest = punch.largest_curvature(p, 1.0);
+    assert!(
+        (largest - analytic::circle_curvature(6.0)).abs() < 1e-5,
+        "{largest}"
+    );
+    assert_eq!(punch.largest_curvature([0.0, 0.0, 0.0], 1.0), 0.0);
 }
 
 #[test]

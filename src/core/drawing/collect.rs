@@ -4,7 +4,7 @@ use super::{DrawingFailure, DrawingProblem, DrawingResult, LeftOut};
 use crate::core::contact::Contact;
 use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::{Model, SolveStats};
-use crate::core::wrinkles::amplitude::wrinkles;
+use crate::core::wrinkles::amplitude::wrinkles_resolved;
 
 /// The fields and figures of the model's final state.
 pub(super) fn collect(
@@ -37,7 +37,8 @@ pub(super) fn collect(
     let (t11_n, t22_n) = (mean(0), mean(1));
     let wrinkle_mm = problem.bending.and_then(|_| {
         let anchored: Vec<bool> = status.iter().map(|&c| c != 0).collect();
-        wrinkles(&model.mesh, &x, &anchored).map(|w| w.per_node_mm)
+        let sag = facet_sag_mm(contact, lambda, &x, &status, problem.element_size_mm);
+        wrinkles_resolved(&model.mesh, &x, &anchored, &sag).map(|w| w.per_node_mm)
     });
     let unbalanced_work_share = if punch_work_nmm > 0.0 {
         sym * stats.unbalanced_work / punch_work_nmm
@@ -69,6 +70,24 @@ pub(super) fn collect(
         positions: x,
         mesh: model.mesh.clone(),
     }
+}
+
+/// Each anchored node's facet sag on its tool, mm: `h²κ/8` for elements `h` long on the
+/// tool's largest principal curvature `κ` there (the punch for status 1, the die for 2 and 3;
+/// 0 for a free node).
+fn facet_sag_mm(contact: &Contact, lambda: f64, x: &[[f64; 3]], status: &[u8], h: f64) -> Vec<f64> {
+    let punch = contact.tool_curvature(0, lambda, x);
+    let die = contact.tool_curvature(1, lambda, x);
+    (0..x.len())
+        .map(|i| {
+            let k = match status[i] {
+                1 => punch[i],
+                2 | 3 => die[i],
+                _ => 0.0,
+            };
+            h * h * k / 8.0
+        })
+        .collect()
 }
 
 /// Each node's contact: 0 free, 1 punch, 2 die, 3 die and holder.

@@ -392,6 +392,16 @@ impl Tool {
         u <= -margin && v > u + margin
     }
 
+    /// The largest principal curvature (1/mm) of the surface at `p`: the larger root of
+    /// `k² − tr k + (tr² − |H|²)/2` for [`Tool::curvature`]'s `H`, whose third eigenvalue (along
+    /// the normal) is 0. 0 on a flat face.
+    pub fn largest_curvature(&self, p: [f64; 3], scale: f64) -> f64 {
+        let h = self.curvature(p, scale);
+        let tr = h[0][0] + h[1][1] + h[2][2];
+        let f2: f64 = h.iter().flatten().map(|v| v * v).sum();
+        0.5 * (tr.abs() + (2.0 * f2 - tr * tr).max(0.0).sqrt())
+    }
+
     /// The Hessian of the signed distance (the curvature of the surface, `∂n/∂x`) at `p`, by
     /// central differences of the analytic normal (zero on a flat face).
     pub fn curvature(&self, p: [f64; 3], scale: f64) -> [[f64; 3]; 3] {

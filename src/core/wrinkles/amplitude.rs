@@ -178,12 +178,37 @@ pub fn wrinkles(mesh: &Mesh, x: &[[f64; 3]], anchored: &[bool]) -> Option<Wrinkl
     Some(wrinkles_along(mesh, &grid_lines(mesh.grid?), x, anchored))
 }
 
+/// [`wrinkles`] with each anchored node's resolution `sag_mm` taken off the spans it bounds:
+/// on a tool of curvature `κ` the fabric between two nodes `h` apart sags from their chord by
+/// `h²κ/8`, which surfaces sampled at the nodes cannot resolve, so a span's peak-to-valley up
+/// to the larger sag at its two ends is the mesh's facets on a curved tool, not a wrinkle
+/// (0 on flat tools and clamps). `None` for a mesh that is not a yarn grid.
+pub fn wrinkles_resolved(
+    mesh: &Mesh,
+    x: &[[f64; 3]],
+    anchored: &[bool],
+    sag_mm: &[f64],
+) -> Option<Wrinkles> {
+    let lines = grid_lines(mesh.grid?);
+    Some(field_of(mesh, &lines, x, anchored, Some(sag_mm)))
+}
+
 /// [`wrinkles`] on a mesh whose yarn lines are `lines` (each its nodes in order).
 pub fn wrinkles_along(
     mesh: &Mesh,
     lines: &[Vec<usize>],
     x: &[[f64; 3]],
     anchored: &[bool],
+) -> Wrinkles {
+    field_of(mesh, lines, x, anchored, None)
+}
+
+fn field_of(
+    mesh: &Mesh,
+    lines: &[Vec<usize>],
+    x: &[[f64; 3]],
+    anchored: &[bool],
+    sag_mm: Option<&[f64]>,
 ) -> Wrinkles {
     let dev = deviations_along(mesh, lines, x, anchored);
     let mut field = Wrinkles {
@@ -194,6 +219,14 @@ pub fn wrinkles_along(
     for line in lines {
         for span in spans(line, anchored) {
             let (amp, far) = span_amplitude(span, &dev);
+            let sag = sag_mm.map_or(0.0, |sag| {
+                let ends = [span[0], span[span.len() - 1]];
+                ends.iter()
+                    .filter(|&&i| anchored[i])
+                    .map(|&i| sag[i])
+                    .fold(0.0, f64::max)
+            });
+            let amp = (amp - sag).max(0.0);
             for &i in span {
                 if !anchored[i] {
                     field.per_node_mm[i] = field.per_node_mm[i].max(amp);
@@ -264,6 +297,45 @@ mod tests {
         for x in [&mesh.nodes, &tilted] {
             let w = wrinkles(&mesh, x, &anchored).unwrap();
             assert!(w.max_mm < 1e-12, "{}", w.max_mm);
+        }
+    }
+
+    #[test]
+    fn a_span_loses_the_facet_sag_of_its_ends_and_no_more() {
+        let mesh = strip(50);
+        // The whole border held, so that every span, warp and weft, ends on anchors.
+        let anchored: Vec<bool> = mesh
+            .nodes
+            .iter()
+            .map(|p| p[0] < 1e-9 || p[0] > 100.0 - 1e-9 || p[1] < 1e-9 || p[1] > 10.0 - 1e-9)
+            .collect();
+        let pi = std::f64::consts::PI;
+        let bulge: Vec<[f64; 3]> = mesh
+            .nodes
+            .iter()
+            .map(|p| {
+                [
+                    p[0],
+                    p[1],
+                    3.0 * (pi * p[0] / 100.0).sin() * (pi * p[1] / 10.0).sin(),
+                ]
+            })
+            .collect();
+        let plain = wrinkles(&mesh, &bulge, &anchored).unwrap().max_mm;
+        assert!((plain - 3.0).abs() < 0.01, "{plain}");
+        // Flat clamps: no sag, the plain figure; anchors on a tool that sags 0.5 mm, 0.5 less;
+        // a sag above the figure, nothing.
+        for (sag_end, want) in [(0.0, plain), (0.5, plain - 0.5), (4.0, 0.0)] {
+            let sag: Vec<f64> = anchored
+                .iter()
+                .map(|&a| if a { sag_end } else { 0.0 })
+                .collect();
+            let w = wrinkles_resolved(&mesh, &bulge, &anchored, &sag).unwrap();
+            assert!(
+                (w.max_mm - want).abs() < 1e-12,
+                "{sag_end}: {} against {want}",
+                w.max_mm
+            );
         }
     }
 
