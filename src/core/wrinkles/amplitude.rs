@@ -122,6 +122,20 @@ fn reference(
     reference
 }
 
+/// The peak-to-valley of a span's deviations (0 counted, as an anchored end), and the index
+/// of the largest |deviation|.
+fn peak_to_valley(dev: &[f64]) -> (usize, f64) {
+    let (mut lo, mut hi, mut far, mut far_d) = (0.0f64, 0.0f64, 0, -1.0f64);
+    for (k, &d) in dev.iter().enumerate() {
+        lo = lo.min(d);
+        hi = hi.max(d);
+        if d.abs() > far_d {
+            (far, far_d) = (k, d.abs());
+        }
+    }
+    (far, hi - lo)
+}
+
 /// The peak-to-valley of the deviations `dev` over one span `nodes` (its ends included; an
 /// anchored end counts 0), and the node of the largest |deviation|.
 fn span_amplitude(nodes: &[usize], dev: &[f64]) -> (f64, usize) {
@@ -147,27 +161,79 @@ pub fn deviations_along(
     x: &[[f64; 3]],
     anchored: &[bool],
 ) -> Vec<f64> {
+    let (signed, _) = signed_distances(mesh, lines, x, anchored);
+    signed.iter().map(|d| unexplained(d)).collect()
+}
+
+/// The deviation left by signed distances from references: 0 when the node lies between two
+/// of them (they disagree in sign), else the nearest.
+fn unexplained(d: &[f64]) -> f64 {
+    let (lo, hi) = d
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+    if lo <= 0.0 && hi >= 0.0 {
+        0.0
+    } else if hi < 0.0 {
+        hi
+    } else {
+        lo
+    }
+}
+
+/// Each node's signed distances (along its unit normal, mm) from the net and the plate, and
+/// its unit normal; anchored nodes and nodes without a normal get `[0, 0]`.
+fn signed_distances(
+    mesh: &Mesh,
+    lines: &[Vec<usize>],
+    x: &[[f64; 3]],
+    anchored: &[bool],
+) -> (Vec<Vec<f64>>, Vec<[f64; 3]>) {
     let normals = nodal_normals(mesh, x);
     let net = reference(Spanned::Net, lines, x, anchored);
     let plate = reference(Spanned::Plate, lines, x, anchored);
-    (0..x.len())
+    let mut units = vec![[0.0; 3]; x.len()];
+    let signed = (0..x.len())
         .map(|i| {
             let n = normals[i];
             let len = dot(n, n).sqrt();
             if anchored[i] || len == 0.0 {
+                return vec![0.0, 0.0];
+            }
+            units[i] = [n[0] / len, n[1] / len, n[2] / len];
+            vec![
+                dot(sub(x[i], net[i]), units[i]),
+                dot(sub(x[i], plate[i]), units[i]),
+            ]
+        })
+        .collect();
+    (signed, units)
+}
+
+/// The deviations along a span anchored at both ends with its chord as a third reference (a
+/// free yarn bridging straight between two tools is explained by it: the double dome's saddle),
+/// else with the net and the plate alone.
+fn span_deviations(
+    span: &[usize],
+    x: &[[f64; 3]],
+    anchored: &[bool],
+    signed: &[Vec<f64>],
+    units: &[[f64; 3]],
+) -> Vec<f64> {
+    let (first, last) = (span[0], span[span.len() - 1]);
+    if !(anchored[first] && anchored[last]) {
+        return span.iter().map(|&i| unexplained(&signed[i])).collect();
+    }
+    let n = (span.len() - 1) as f64;
+    span.iter()
+        .enumerate()
+        .map(|(k, &i)| {
+            if anchored[i] {
                 return 0.0;
             }
-            let (a, b) = (
-                dot(sub(x[i], net[i]), n) / len,
-                dot(sub(x[i], plate[i]), n) / len,
-            );
-            if a * b <= 0.0 {
-                0.0
-            } else if a.abs() < b.abs() {
-                a
-            } else {
-                b
-            }
+            let t = k as f64 / n;
+            let on_chord = [0, 1, 2].map(|m| x[first][m] + t * (x[last][m] - x[first][m]));
+            let chord = dot(sub(x[i], on_chord), units[i]);
+            unexplained(&[signed[i][0], signed[i][1], chord])
         })
         .collect()
 }
@@ -210,7 +276,8 @@ fn field_of(
     anchored: &[bool],
     sag_mm: Option<&[f64]>,
 ) -> Wrinkles {
-    let dev = deviations_along(mesh, lines, x, anchored);
+    let (signed, units) = signed_distances(mesh, lines, x, anchored);
+    let dev: Vec<f64> = signed.iter().map(|d| unexplained(d)).collect();
     let mut field = Wrinkles {
         per_node_mm: vec![0.0; x.len()],
         max_mm: 0.0,
@@ -218,7 +285,14 @@ fn field_of(
     };
     for line in lines {
         for span in spans(line, anchored) {
-            let (amp, far) = span_amplitude(span, &dev);
+            // A drawing's spans also take their chord as a reference (`span_deviations`).
+            let (amp, far) = if sag_mm.is_some() {
+                let local = span_deviations(span, x, anchored, &signed, &units);
+                let (k, amp) = peak_to_valley(&local);
+                (amp, span[k])
+            } else {
+                span_amplitude(span, &dev)
+            };
             let sag = sag_mm.map_or(0.0, |sag| {
                 let ends = [span[0], span[span.len() - 1]];
                 ends.iter()
