@@ -100,7 +100,7 @@ pub struct CellLaw {
     toe: f64,
     /// Each yarn's stiffness in compression as a fraction of `C` (0: the paper's yarns, which
     /// shorten for free). The linear law takes it into its yarn's toe; the woven law adds it
-    /// beside the crimp interchange ([`CellLaw::cell_compression`]).
+    /// beside the crimp interchange (`CellLaw::cell_compression`).
     compression: [f64; 2],
 }
 
@@ -145,7 +145,7 @@ impl CellLaw {
     /// The same cell with yarns that resist compression with the stiffness `fraction · C`
     /// (per yarn; [`crate::core::fabric::toe::phi_compressive`]): in the linear law the yarn's
     /// own tension, in the woven law a term beside the crimp interchange
-    /// ([`CellLaw::cell_compression`]).
+    /// (`CellLaw::cell_compression`).
     pub fn with_compression(mut self, fraction: [f64; 2]) -> Self {
         self.compression = fraction.map(|f| f.max(0.0));
         self
@@ -266,7 +266,7 @@ impl CellLaw {
         (self.p.c[a] * (pc - p), self.p.c[a] * (dpc - dp))
     }
 
-    /// The energy of [`CellLaw::cell_compression`] over a cell, N·mm.
+    /// The energy of `CellLaw::cell_compression` over a cell, N·mm.
     fn cell_compression_energy(&self, a: usize, eps: f64) -> f64 {
         let r = self.compression[a];
         if r == 0.0 {
