@@ -85,7 +85,7 @@ mod tests {
     }
 
     /// Every `.rs` file under `dir`, as a path relative to `root` with `/` separators.
-    fn rust_files(root: &Path, dir: &Path, out: &mut BTreeSet<String>) {
+    pub(super) fn rust_files(root: &Path, dir: &Path, out: &mut BTreeSet<String>) {
         for entry in std::fs::read_dir(dir).unwrap() {
             let path: PathBuf = entry.unwrap().path();
             if path.is_dir() {

@@ -267,16 +267,6 @@ impl Contact {
     }
 
     /// Nodes the tool `t` presses at load `lambda`.
-    /// The largest principal curvature (1/mm) of tool `t` at each node, at load `lambda`
-    /// ([`crate::core::tools::Tool::largest_curvature`]).
-    pub fn tool_curvature(&self, t: usize, lambda: f64, x: &[[f64; 3]]) -> Vec<f64> {
-        let tool = self.tools[t].at(lambda);
-        let scale = self.options.contact_smoothing.max(1e-3);
-        x.iter()
-            .map(|&p| tool.largest_curvature(p, scale))
-            .collect()
-    }
-
     pub fn in_contact(&self, t: usize, lambda: f64, x: &[[f64; 3]]) -> Vec<bool> {
         let tool = self.tools[t].at(lambda);
         let delta = self.options.contact_smoothing;

@@ -76,16 +76,13 @@ pub(super) fn collect(
 /// tool's largest principal curvature `κ` there (the punch for status 1, the die for 2 and 3;
 /// 0 for a free node).
 fn facet_sag_mm(contact: &Contact, lambda: f64, x: &[[f64; 3]], status: &[u8], h: f64) -> Vec<f64> {
-    let punch = contact.tool_curvature(0, lambda, x);
-    let die = contact.tool_curvature(1, lambda, x);
+    let tools = [contact.tools[0].at(lambda), contact.tools[1].at(lambda)];
+    let scale = contact.options.contact_smoothing.max(1e-3);
     (0..x.len())
-        .map(|i| {
-            let k = match status[i] {
-                1 => punch[i],
-                2 | 3 => die[i],
-                _ => 0.0,
-            };
-            h * h * k / 8.0
+        .map(|i| match status[i] {
+            1 => h * h * tools[0].largest_curvature(x[i], scale) / 8.0,
+            2 | 3 => h * h * tools[1].largest_curvature(x[i], scale) / 8.0,
+            _ => 0.0,
         })
         .collect()
 }

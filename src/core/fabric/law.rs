@@ -230,13 +230,15 @@ impl CellLaw {
         if !self.p.undulation {
             return self.evaluate_linear(eps);
         }
-        let mut r = self.evaluate_woven(eps, state);
-        if self.compression != [0.0; 2] {
-            for a in 0..2 {
-                let (t, dt) = self.cell_compression(a, eps[a]);
-                r.t[a] += t;
-                r.dt[a][a] += dt;
-            }
+        self.with_cell_compression(eps, self.evaluate_woven(eps, state))
+    }
+
+    /// `r` with the woven law's compressive branch added (`CellLaw::cell_compression`).
+    fn with_cell_compression(&self, eps: [f64; 2], mut r: CellResponse) -> CellResponse {
+        for a in 0..2 {
+            let (t, dt) = self.cell_compression(a, eps[a]);
+            r.t[a] += t;
+            r.dt[a][a] += dt;
         }
         r
     }
@@ -258,11 +260,7 @@ impl CellLaw {
             return (0.0, 0.0);
         }
         let (pc, dpc) = crate::core::fabric::toe::phi_compressive(eps, self.toe, r);
-        let (p, dp) = if self.toe > 0.0 {
-            crate::core::fabric::toe::phi(eps, self.toe)
-        } else {
-            (eps.max(0.0), if eps >= 0.0 { 1.0 } else { 0.0 })
-        };
+        let (p, dp) = crate::core::fabric::toe::phi(eps, self.toe);
         (self.p.c[a] * (pc - p), self.p.c[a] * (dpc - dp))
     }
 
@@ -273,11 +271,7 @@ impl CellLaw {
             return 0.0;
         }
         let ec = crate::core::fabric::toe::energy_compressive(eps, self.toe, r);
-        let e = if self.toe > 0.0 {
-            crate::core::fabric::toe::energy(eps, self.toe)
-        } else {
-            0.5 * eps.max(0.0).powi(2)
-        };
+        let e = crate::core::fabric::toe::energy(eps, self.toe);
         self.p.c[a] * self.p.l0[a] * (ec - e)
     }
 
@@ -324,13 +318,7 @@ impl CellLaw {
             return self.evaluate(eps, self.initial_state());
         }
         let x = self.bracketed(l);
-        let mut r = self.respond(l, x, 0);
-        for a in 0..2 {
-            let (t, dt) = self.cell_compression(a, eps[a]);
-            r.t[a] += t;
-            r.dt[a][a] += dt;
-        }
-        r
+        self.with_cell_compression(eps, self.respond(l, x, 0))
     }
 
     /// Residuals `R1 = V1 − V2`, `R2 = s − A(1 − e^{−2B V1})` and their Jacobian at `(h1, s)`.

@@ -17,7 +17,7 @@
 //! which the drawings' equilibrium absorbs: their figures move by a small fraction of the
 //! accuracy bands (measured in `guide::accuracy`). `w = 0` is the paper's law, bit for bit.
 
-/// `φ(ε)` and `φ'(ε)` for a toe of width `w > 0`.
+/// `φ(ε)` and `φ'(ε)` for a toe of width `w` (`w = 0`: the paper's kink, slack at zero).
 #[inline]
 pub fn phi(strain: f64, w: f64) -> (f64, f64) {
     if strain <= 0.0 {
@@ -29,7 +29,7 @@ pub fn phi(strain: f64, w: f64) -> (f64, f64) {
     }
 }
 
-/// `Φ(ε) = ∫₀^ε φ` for a toe of width `w > 0`.
+/// `Φ(ε) = ∫₀^ε φ` for a toe of width `w ≥ 0`.
 #[inline]
 pub fn energy(strain: f64, w: f64) -> f64 {
     if strain <= 0.0 {

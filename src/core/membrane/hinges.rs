@@ -4,14 +4,7 @@
 
 use crate::core::fabric::bending::Hinge;
 use crate::core::membrane::mesh::Mesh;
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
+use crate::core::vec3::{cross, dot, sub, unit};
 
 fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
@@ -25,7 +18,6 @@ pub fn yarn_hinges(mesh: &Mesh, rigidity: [f64; 2]) -> Option<Vec<Hinge>> {
     let [n1, n2] = mesh.grid?;
     let id = |i: usize, j: usize| j * (n1 + 1) + i;
     let x = &mesh.nodes;
-    let len = |a: usize, b: usize| norm(sub(x[b], x[a]));
     if let Some(yarns) = mesh.yarns {
         let along = |a: usize, b: usize, h: [f64; 3]| {
             let e = sub(x[b], x[a]);
@@ -36,14 +28,17 @@ pub fn yarn_hinges(mesh: &Mesh, rigidity: [f64; 2]) -> Option<Vec<Hinge>> {
         }
     }
     // The sine of the angle between the yarns: the width across a line per unit spacing.
-    let sine = mesh.yarns.map_or(1.0, |[h1, h2]| {
-        let c = [
-            h1[1] * h2[2] - h1[2] * h2[1],
-            h1[2] * h2[0] - h1[0] * h2[2],
-            h1[0] * h2[1] - h1[1] * h2[0],
-        ];
-        norm(c)
-    });
+    let sine = mesh.yarns.map_or(1.0, |[h1, h2]| norm(cross(h1, h2)));
+    Some(line_hinges(mesh, [n1, n2], rigidity, sine))
+}
+
+/// The hinges along an `[n1, n2]` grid's lines with rigidities `[B1, B2]` along its first and
+/// second lines; `sine` the sine of the angle between them (the width across a line per unit
+/// spacing).
+fn line_hinges(mesh: &Mesh, [n1, n2]: [usize; 2], rigidity: [f64; 2], sine: f64) -> Vec<Hinge> {
+    let id = |i: usize, j: usize| j * (n1 + 1) + i;
+    let x = &mesh.nodes;
+    let len = |a: usize, b: usize| norm(sub(x[b], x[a]));
     let mut hinges = Vec::new();
     // Warp lines: j fixed, i runs; their width is the spacing to the weft neighbours.
     for j in 0..=n2 {
@@ -87,7 +82,7 @@ pub fn yarn_hinges(mesh: &Mesh, rigidity: [f64; 2]) -> Option<Vec<Hinge>> {
         }
     }
     hinges.retain(|h| h.k > 0.0);
-    Some(hinges)
+    hinges
 }
 
 /// The bending rigidities along a grid's two lines (N·mm per unit width) of a fabric whose yarns
@@ -113,18 +108,11 @@ pub fn grid_line_hinges(mesh: &Mesh, rigidity: [f64; 2]) -> Option<Vec<Hinge>> {
     let [n1, _] = mesh.grid?;
     let yarns = mesh.yarns?;
     let x = &mesh.nodes;
-    let unit = |a: usize, b: usize| {
-        let e = sub(x[b], x[a]);
-        let n = norm(e);
-        [e[0] / n, e[1] / n, e[2] / n]
-    };
-    let lines = [unit(0, 1), unit(0, n1 + 1)];
+    let lines = [unit(sub(x[1], x[0])), unit(sub(x[n1 + 1], x[0]))];
     let along = rigidity_along_lines(lines, yarns, rigidity);
-    let plain = Mesh {
-        yarns: None,
-        ..mesh.clone()
-    };
-    yarn_hinges(&plain, along)
+    // The grid's lines at the angle between them (the rectangular blank's: 90°).
+    let sine = norm(cross(lines[0], lines[1]));
+    Some(line_hinges(mesh, mesh.grid?, along, sine))
 }
 
 #[cfg(test)]

@@ -136,21 +136,6 @@ fn peak_to_valley(dev: &[f64]) -> (usize, f64) {
     (far, hi - lo)
 }
 
-/// The peak-to-valley of the deviations `dev` over one span `nodes` (its ends included; an
-/// anchored end counts 0), and the node of the largest |deviation|.
-fn span_amplitude(nodes: &[usize], dev: &[f64]) -> (f64, usize) {
-    let (mut lo, mut hi, mut far, mut far_d) = (0.0f64, 0.0f64, nodes[0], -1.0f64);
-    for &i in nodes {
-        let d = dev[i];
-        lo = lo.min(d);
-        hi = hi.max(d);
-        if d.abs() > far_d {
-            (far, far_d) = (i, d.abs());
-        }
-    }
-    (hi - lo, far)
-}
-
 /// Each node's deviation from what the anchors explain, along its surface normal, mm: its
 /// distance from the nearer of the two surfaces spanned over them (`Spanned`) when it lies
 /// beyond both on the same side, else 0 (between them it is explained); 0 at the anchored
@@ -277,7 +262,6 @@ fn field_of(
     sag_mm: Option<&[f64]>,
 ) -> Wrinkles {
     let (signed, units) = signed_distances(mesh, lines, x, anchored);
-    let dev: Vec<f64> = signed.iter().map(|d| unexplained(d)).collect();
     let mut field = Wrinkles {
         per_node_mm: vec![0.0; x.len()],
         max_mm: 0.0,
@@ -286,13 +270,13 @@ fn field_of(
     for line in lines {
         for span in spans(line, anchored) {
             // A drawing's spans also take their chord as a reference (`span_deviations`).
-            let (amp, far) = if sag_mm.is_some() {
-                let local = span_deviations(span, x, anchored, &signed, &units);
-                let (k, amp) = peak_to_valley(&local);
-                (amp, span[k])
+            let local: Vec<f64> = if sag_mm.is_some() {
+                span_deviations(span, x, anchored, &signed, &units)
             } else {
-                span_amplitude(span, &dev)
+                span.iter().map(|&i| unexplained(&signed[i])).collect()
             };
+            let (k, amp) = peak_to_valley(&local);
+            let far = span[k];
             let sag = sag_mm.map_or(0.0, |sag| {
                 let ends = [span[0], span[span.len() - 1]];
                 ends.iter()
