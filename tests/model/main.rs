@@ -29,6 +29,7 @@ mod frontier_grid;
 mod holder_pull_out;
 mod law_reference;
 mod levels;
+mod membrane_force;
 mod mesh_distance;
 mod mesh_exactness;
 mod shear_law;

@@ -4,7 +4,7 @@ use super::{DrawingFailure, DrawingProblem, DrawingResult, LeftOut};
 use crate::core::contact::Contact;
 use crate::core::membrane::mesh::Mesh;
 use crate::core::solver::{Model, SolveStats};
-use crate::core::wrinkles::amplitude::wrinkles_resolved;
+use crate::core::wrinkles::amplitude::{Explained, wrinkles_resolved};
 
 /// The fields and figures of the model's final state.
 pub(super) fn collect(
@@ -37,8 +37,13 @@ pub(super) fn collect(
     let (t11_n, t22_n) = (mean(0), mean(1));
     let wrinkle_mm = problem.bending.and_then(|_| {
         let anchored: Vec<bool> = status.iter().map(|&c| c != 0).collect();
-        let sag = facet_sag_mm(contact, lambda, &x, &status, problem.element_size_mm);
-        wrinkles_resolved(&model.mesh, &x, &anchored, &sag).map(|w| w.per_node_mm)
+        let sag_mm = facet_sag_mm(contact, lambda, &x, &status, problem.element_size_mm);
+        let taut = taut_nodes(&model.mesh, &model.least_membrane_force_n_per_mm());
+        let explained = Explained {
+            sag_mm: &sag_mm,
+            taut: &taut,
+        };
+        wrinkles_resolved(&model.mesh, &x, &anchored, explained).map(|w| w.per_node_mm)
     });
     let unbalanced_work_share = if punch_work_nmm > 0.0 {
         sym * stats.unbalanced_work / punch_work_nmm
@@ -70,6 +75,19 @@ pub(super) fn collect(
         positions: x,
         mesh: model.mesh.clone(),
     }
+}
+
+/// Each node taut: every element around it has a positive least membrane force.
+fn taut_nodes(mesh: &Mesh, least_n_per_mm: &[f64]) -> Vec<bool> {
+    let mut taut = vec![true; mesh.nodes.len()];
+    for (q, &least) in mesh.quads.iter().zip(least_n_per_mm) {
+        if least <= 0.0 {
+            for &n in q {
+                taut[n] = false;
+            }
+        }
+    }
+    taut
 }
 
 /// Each anchored node's facet sag on its tool, mm: `h²κ/8` for elements `h` long on the

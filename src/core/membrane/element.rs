@@ -436,3 +436,60 @@ fn add_shear(
     }
     area * law.energy(g)
 }
+
+/// The element's least principal membrane force, N per mm of initial length: the smaller
+/// eigenvalue of `Σgp [Σα (S̃α fα + A M(γ) ∂γ/∂fα) ⊗ fα] / A0` (the yarns' resultants and the
+/// shear law's moment, in the fabric's tangent plane), from the Gauss points' `tension`.
+/// Positive: the fabric is stretched in every direction of its plane (taut), and a membrane
+/// that is taut cannot wrinkle (tension field theory); at or below zero it is compressed in
+/// some direction, or slack.
+pub fn least_membrane_force_n_per_mm(
+    geo: &ElementGeometry,
+    law: &CellLaw,
+    x: &[[f64; 3]; 4],
+    tension: &[[f64; 2]; GAUSS],
+) -> f64 {
+    let centre = yarn_images(&geo.d_centre, x);
+    let e1 = crate::core::vec3::unit(centre[0]);
+    let along = crate::core::vec3::sub(centre[1], scale3(e1, dot(centre[1], e1)));
+    if norm(e1) == 0.0 || norm(along) == 0.0 || geo.area0 <= 0.0 {
+        return 0.0;
+    }
+    let e2 = crate::core::vec3::unit(along);
+    // τ projected on (e1, e2): Σ (force on the yarn image)·e_i (fα·e_j).
+    let mut tau = [[0.0; 2]; 2];
+    for gp in 0..GAUSS {
+        let f = yarn_images(&geo.d[gp], x);
+        let shear = law.shear.as_ref().map(|s| {
+            let kin = crate::core::fabric::shear::shear_kinematics(&f, geo.theta0[gp], false);
+            (geo.area_gp[gp] * s.moment(kin.gamma), kin.grad)
+        });
+        for alpha in 0..2 {
+            let stretch = norm(f[alpha]);
+            if stretch <= 0.0 {
+                continue;
+            }
+            let s = geo.cells[gp] * law.p.l0[alpha] * tension[gp][alpha] / stretch;
+            let mut force = scale3(f[alpha], s);
+            if let Some((m, grad)) = shear {
+                force = [0, 1, 2].map(|c| force[c] + m * grad[alpha][c]);
+            }
+            let (fe, ge) = (
+                [dot(force, e1), dot(force, e2)],
+                [dot(f[alpha], e1), dot(f[alpha], e2)],
+            );
+            for i in 0..2 {
+                for j in 0..2 {
+                    tau[i][j] += fe[i] * ge[j];
+                }
+            }
+        }
+    }
+    let (a, d, b) = (tau[0][0], tau[1][1], 0.5 * (tau[0][1] + tau[1][0]));
+    let least = 0.5 * (a + d) - (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    least / geo.area0
+}
+
+fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}

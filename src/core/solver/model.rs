@@ -395,6 +395,19 @@ impl Model {
             .collect()
     }
 
+    /// Each element's least principal membrane force at the last evaluation, N/mm (positive:
+    /// taut in every direction of its plane; [`element::least_membrane_force_n_per_mm`]).
+    pub fn least_membrane_force_n_per_mm(&self) -> Vec<f64> {
+        let x = self.positions();
+        (0..self.mesh.quads.len())
+            .map(|e| {
+                let xe = self.element_positions(e, &x);
+                let t = &self.outputs[e].tension;
+                element::least_membrane_force_n_per_mm(&self.geometry[e], &self.law, &xe, t)
+            })
+            .collect()
+    }
+
     /// Largest yarn tension of each element (over its Gauss points and yarns), N.
     pub fn max_tension_n(&self) -> Vec<f64> {
         self.outputs

@@ -229,19 +229,31 @@ pub fn wrinkles(mesh: &Mesh, x: &[[f64; 3]], anchored: &[bool]) -> Option<Wrinkl
     Some(wrinkles_along(mesh, &grid_lines(mesh.grid?), x, anchored))
 }
 
-/// [`wrinkles`] with each anchored node's resolution `sag_mm` taken off the spans it bounds:
-/// on a tool of curvature `κ` the fabric between two nodes `h` apart sags from their chord by
-/// `h²κ/8`, which surfaces sampled at the nodes cannot resolve, so a span's peak-to-valley up
-/// to the larger sag at its two ends is the mesh's facets on a curved tool, not a wrinkle
-/// (0 on flat tools and clamps). `None` for a mesh that is not a yarn grid.
+/// What a drawing's tools and loads explain of its free fabric beyond the two surfaces.
+#[derive(Clone, Copy, Debug)]
+pub struct Explained<'a> {
+    /// Each anchored node's facet sag on its tool, mm: on a tool of curvature `κ` the fabric
+    /// between two nodes `h` apart sags from their chord by `h²κ/8`, which surfaces sampled at
+    /// the nodes cannot resolve, so a span's peak-to-valley up to the larger sag at its two
+    /// ends is the mesh's facets on a curved tool, not a wrinkle (0 on flat tools and clamps).
+    pub sag_mm: &'a [f64],
+    /// Each node taut: stretched in every direction of the fabric's plane by all its elements.
+    /// A taut membrane cannot wrinkle (tension field theory: a wrinkle needs a compressed or
+    /// slack direction), so a taut free node takes the shape its tools and loads give it, and
+    /// its deviation is explained (a wall bridging between tools, pulled tight).
+    pub taut: &'a [bool],
+}
+
+/// [`wrinkles`] with what the tools explain (`explained`) taken off, and each span held at
+/// both ends by tools also measured from its chord. `None` for a mesh that is not a yarn grid.
 pub fn wrinkles_resolved(
     mesh: &Mesh,
     x: &[[f64; 3]],
     anchored: &[bool],
-    sag_mm: &[f64],
+    explained: Explained,
 ) -> Option<Wrinkles> {
     let lines = grid_lines(mesh.grid?);
-    Some(field_of(mesh, &lines, x, anchored, Some(sag_mm)))
+    Some(field_of(mesh, &lines, x, anchored, Some(explained)))
 }
 
 /// [`wrinkles`] on a mesh whose yarn lines are `lines` (each its nodes in order).
@@ -259,7 +271,7 @@ fn field_of(
     lines: &[Vec<usize>],
     x: &[[f64; 3]],
     anchored: &[bool],
-    sag_mm: Option<&[f64]>,
+    explained: Option<Explained>,
 ) -> Wrinkles {
     let (signed, units) = signed_distances(mesh, lines, x, anchored);
     let mut field = Wrinkles {
@@ -270,18 +282,21 @@ fn field_of(
     for line in lines {
         for span in spans(line, anchored) {
             // A drawing's spans also take their chord as a reference (`span_deviations`).
-            let local: Vec<f64> = if sag_mm.is_some() {
-                span_deviations(span, x, anchored, &signed, &units)
-            } else {
-                span.iter().map(|&i| unexplained(&signed[i])).collect()
+            let local: Vec<f64> = match explained {
+                Some(e) => span_deviations(span, x, anchored, &signed, &units)
+                    .into_iter()
+                    .zip(span)
+                    .map(|(d, &i)| if e.taut[i] { 0.0 } else { d })
+                    .collect(),
+                None => span.iter().map(|&i| unexplained(&signed[i])).collect(),
             };
             let (k, amp) = peak_to_valley(&local);
             let far = span[k];
-            let sag = sag_mm.map_or(0.0, |sag| {
+            let sag = explained.map_or(0.0, |e| {
                 let ends = [span[0], span[span.len() - 1]];
                 ends.iter()
                     .filter(|&&i| anchored[i])
-                    .map(|&i| sag[i])
+                    .map(|&i| e.sag_mm[i])
                     .fold(0.0, f64::max)
             });
             let amp = (amp - sag).max(0.0);
@@ -388,13 +403,45 @@ mod tests {
                 .iter()
                 .map(|&a| if a { sag_end } else { 0.0 })
                 .collect();
-            let w = wrinkles_resolved(&mesh, &bulge, &anchored, &sag).unwrap();
+            let taut = vec![false; mesh.nodes.len()];
+            let explained = Explained {
+                sag_mm: &sag,
+                taut: &taut,
+            };
+            let w = wrinkles_resolved(&mesh, &bulge, &anchored, explained).unwrap();
             assert!(
                 (w.max_mm - want).abs() < 1e-12,
                 "{sag_end}: {} against {want}",
                 w.max_mm
             );
         }
+    }
+
+    #[test]
+    fn a_taut_span_is_explained_and_a_slack_part_keeps_its_figure() {
+        let mesh = strip(50);
+        let anchored = ends_anchored(&mesh);
+        let tau = std::f64::consts::TAU;
+        // Two waves of depth 2 mm along the strip.
+        let waves: Vec<[f64; 3]> = mesh
+            .nodes
+            .iter()
+            .map(|p| [p[0], p[1], (2.0 * tau * p[0] / 100.0).sin()])
+            .collect();
+        let sag = vec![0.0; mesh.nodes.len()];
+        let figure = |taut: &[bool]| {
+            let explained = Explained { sag_mm: &sag, taut };
+            wrinkles_resolved(&mesh, &waves, &anchored, explained)
+                .unwrap()
+                .max_mm
+        };
+        let slack = figure(&vec![false; mesh.nodes.len()]);
+        assert!((slack - 2.0).abs() < 0.02, "{slack}");
+        assert_eq!(figure(&vec![true; mesh.nodes.len()]), 0.0);
+        // Taut over the first wave only: the second keeps its depth.
+        let half: Vec<bool> = mesh.nodes.iter().map(|p| p[0] < 50.0).collect();
+        let kept = figure(&half);
+        assert!((kept - 2.0).abs() < 0.05, "{kept}");
     }
 
     #[test]
