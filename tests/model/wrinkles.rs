@@ -90,3 +90,34 @@ fn the_holder_window_preset_has_a_locked_side_a_window_and_a_broken_side() {
         heavy.verdict
     );
 }
+
+/// A drawing that buckles (`presets/cup.toml`: the woven law, the fitted shear law with its
+/// locking, bending; it wrinkles at 0° and 90° where the fabric enters the die): a mesh too
+/// coarse to follow the wrinkle holds the fabric flat, so the figure grows with refinement, and
+/// each level's band must reach the fine run's figure (`guide::bending`, "The bands, measured
+/// on drawings that buckle").
+#[test]
+fn on_a_cup_that_wrinkles_each_levels_band_reaches_the_fine_figure() {
+    use wovenform::accuracy::Accuracy;
+    use wovenform::scene::Scene;
+    let preset = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/cup.toml");
+    let scene = Scene::load(Some(&preset), &[]).unwrap();
+    let figure = |level: Accuracy| {
+        let mut p = scene.to_problem();
+        p.element_size_mm = level.element_size_mm();
+        let r = wovenform::core::drawing::solve(&p, &mut |_| {});
+        assert!(r.converged, "{level}: {:?}", r.failure);
+        r.max_wrinkle().unwrap().0
+    };
+    let fine = figure(Accuracy::Fine);
+    assert!(fine > 0.5, "the cup wrinkles: {fine} mm at fine");
+    for level in [Accuracy::Coarse, Accuracy::Standard] {
+        let read = figure(level);
+        let band = level.error().wrinkle_mm(read);
+        assert!(read < fine, "{level}: {read} mm, under fine's {fine} mm");
+        assert!(
+            (fine - read).abs() <= band,
+            "{level}: {read} mm ± {band} mm against fine's {fine} mm"
+        );
+    }
+}
