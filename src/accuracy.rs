@@ -167,7 +167,7 @@ impl Accuracy {
                 punch_force_pct: 2.5,
                 max_tension_pct: 15.0,
                 max_wrinkle_mm: 0.12,
-                max_wrinkle_pct: 2.0,
+                max_wrinkle_pct: 100.0,
             },
         }
     }
