@@ -449,13 +449,14 @@ pub fn least_membrane_force_n_per_mm(
     x: &[[f64; 3]; 4],
     tension: &[[f64; 2]; GAUSS],
 ) -> f64 {
+    use crate::core::vec3::{sub, unit};
     let centre = yarn_images(&geo.d_centre, x);
-    let e1 = crate::core::vec3::unit(centre[0]);
-    let along = crate::core::vec3::sub(centre[1], scale3(e1, dot(centre[1], e1)));
+    let e1 = unit(centre[0]);
+    let along = sub(centre[1], e1.map(|v| v * dot(centre[1], e1)));
     if norm(e1) == 0.0 || norm(along) == 0.0 || geo.area0 <= 0.0 {
         return 0.0;
     }
-    let e2 = crate::core::vec3::unit(along);
+    let e2 = unit(along);
     // τ projected on (e1, e2): Σ (force on the yarn image)·e_i (fα·e_j).
     let mut tau = [[0.0; 2]; 2];
     for gp in 0..GAUSS {
@@ -470,10 +471,10 @@ pub fn least_membrane_force_n_per_mm(
                 continue;
             }
             let s = geo.cells[gp] * law.p.l0[alpha] * tension[gp][alpha] / stretch;
-            let mut force = scale3(f[alpha], s);
-            if let Some((m, grad)) = shear {
-                force = [0, 1, 2].map(|c| force[c] + m * grad[alpha][c]);
-            }
+            let force = match shear {
+                Some((m, grad)) => [0, 1, 2].map(|c| s * f[alpha][c] + m * grad[alpha][c]),
+                None => f[alpha].map(|v| s * v),
+            };
             let (fe, ge) = (
                 [dot(force, e1), dot(force, e2)],
                 [dot(f[alpha], e1), dot(f[alpha], e2)],
@@ -488,8 +489,4 @@ pub fn least_membrane_force_n_per_mm(
     let (a, d, b) = (tau[0][0], tau[1][1], 0.5 * (tau[0][1] + tau[1][0]));
     let least = 0.5 * (a + d) - (0.25 * (a - d) * (a - d) + b * b).sqrt();
     least / geo.area0
-}
-
-fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
 }
